@@ -1,0 +1,115 @@
+r"""Difference operators of the TPBF87 appendix on the M x N node grid.
+
+Nodes r[m, n], m = 0..M-1 along a1, n = 0..N-1 along a2; flat index m N + n.
+
+- ``D1+ u[m,n] = (u[m+1,n] - u[m,n])/h1``, ``D1- u[m,n] = (u[m,n] - u[m-1,n])/h1``
+- ``D11 = D1- D1+`` (central), ``D22 = D2- D2+``, ``D12+ = D1+ D2+``
+
+Natural boundary rule (paper, below eq. (19)): any difference that needs a
+node outside the grid is zero. Applied to the inner operators of eq. (17)
+this makes the outer operators of eq. (16) their adjoints, e.g.
+``-D1-(p) = (D1+)^T p`` when p vanishes where D1+ is undefined, so
+
+    K = sum_ij (D_i+)^T diag(alpha_ij) D_j+ + (D_ij)^T diag(beta_ij) D_ij     (eq. 16-20)
+
+is symmetric. The sparse operators below follow that rule; the array
+functions (:func:`node_derivatives`) give values at *every* node for
+reporting G and B, with one-sided differences where the rule would give zero.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["forward_1d", "central2_1d", "operators", "node_derivatives", "valid_rows"]
+
+
+def forward_1d(n: int, h: float) -> sp.csr_matrix:
+    """(n, n) forward difference, last row zero (the natural boundary rule)."""
+    main = np.full(n, -1.0 / h)
+    upper = np.full(n - 1, 1.0 / h)
+    main[-1] = 0.0
+    return sp.diags([main, upper], [0, 1], shape=(n, n), format="csr")
+
+
+def central2_1d(n: int, h: float) -> sp.csr_matrix:
+    """(n, n) central second difference D- D+, first and last rows zero."""
+    main = np.full(n, -2.0 / h**2)
+    off = np.full(n - 1, 1.0 / h**2)
+    lower, upper = off.copy(), off.copy()
+    main[[0, -1]] = 0.0
+    upper[0] = 0.0  # row 0
+    lower[-1] = 0.0  # row n-1
+    return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
+
+
+def operators(M: int, N: int, h1: float, h2: float) -> dict[str, sp.csr_matrix]:
+    """The sparse operators D1, D2 (forward), D11, D22 (central), D12 (= D1+ D2+), each (MN, MN)."""
+    I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
+    D1 = sp.kron(forward_1d(M, h1), I2, format="csr")
+    D2 = sp.kron(I1, forward_1d(N, h2), format="csr")
+    D11 = sp.kron(central2_1d(M, h1), I2, format="csr")
+    D22 = sp.kron(I1, central2_1d(N, h2), format="csr")
+    D12 = (D1 @ D2).tocsr()
+    out = {"D1": D1, "D2": D2, "D11": D11, "D22": D22, "D12": D12}
+    for A in out.values():
+        A.eliminate_zeros()
+        A.sort_indices()
+    return out
+
+
+def valid_rows(M: int, N: int) -> dict[str, np.ndarray]:
+    """(M, N) masks of the nodes where each operator of eq. (17) is defined (non-zero row)."""
+    m = np.arange(M)[:, None]
+    n = np.arange(N)[None, :]
+    f1 = np.broadcast_to(m < M - 1, (M, N))
+    f2 = np.broadcast_to(n < N - 1, (M, N))
+    c1 = np.broadcast_to((m > 0) & (m < M - 1), (M, N))
+    c2 = np.broadcast_to((n > 0) & (n < N - 1), (M, N))
+    return {"D1": f1, "D2": f2, "D11": c1, "D22": c2, "D12": f1 & f2}
+
+
+def _first(u: np.ndarray, axis: int, h: float) -> np.ndarray:
+    """Forward difference along ``axis``, backward at the last node."""
+    d = np.diff(u, axis=axis) / h
+    last = np.take(d, [-1], axis=axis)
+    return np.concatenate([d, last], axis=axis)
+
+
+def _second(u: np.ndarray, axis: int, h: float) -> np.ndarray:
+    """Central second difference, copied from the nearest interior node at the two ends."""
+    d = np.diff(u, n=2, axis=axis) / h**2
+    return np.concatenate([np.take(d, [0], axis=axis), d, np.take(d, [-1], axis=axis)], axis=axis)
+
+
+def node_derivatives(R: np.ndarray, h1: float, h2: float) -> tuple[np.ndarray, np.ndarray]:
+    """Difference approximations of r_i and r_ij at every node.
+
+    Parameters
+    ----------
+    R : array (M, N, 3)
+        Node positions.
+
+    Returns
+    -------
+    dr : array (3, 2, M, N)
+        ``D1+ r``, ``D2+ r`` (eq. 18); backward differences on the last row/column.
+    ddr : array (3, 2, 2, M, N)
+        ``D11 r``, ``D12+ r``, ``D22 r`` (eq. 19); at the edges where the
+        central difference leaves the grid, the value of the nearest interior
+        node (first order there), and D12 with backward differences where
+        the forward ones leave the grid.
+
+    These agree with the sparse operators wherever those are defined, so
+    alpha and beta (eq. 18-19) computed from them enter K unchanged.
+    """
+    R = np.moveaxis(np.asarray(R, float), -1, 0)  # (3, M, N)
+    r1 = _first(R, 1, h1)
+    r2 = _first(R, 2, h2)
+    r11 = _second(R, 1, h1)
+    r22 = _second(R, 2, h2)
+    r12 = _first(r1, 2, h2)  # D2 (D1 r): forward-forward inside, one-sided at the far edges
+    dr = np.stack([r1, r2], axis=1)
+    ddr = np.stack([np.stack([r11, r12], axis=1), np.stack([r12, r22], axis=1)], axis=1)
+    return dr, ddr

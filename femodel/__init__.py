@@ -1,0 +1,1 @@
+"""femodel: finite elements with scikit-fem on the parameter rectangle (in progress)."""

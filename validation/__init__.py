@@ -1,0 +1,1 @@
+"""validation: analytic surfaces, convergence studies, reports, and the ``deformable`` command line."""
