@@ -15,8 +15,14 @@ where a forward difference would leave the grid (DESIGN.md).
 Mass, damping and loads are pointwise as in the paper (M = diag(mu),
 C = diag(gamma), F = f at the node). With ``weighting="control-area"`` the
 mass, damping and body loads of edge nodes are weighted by 1/2 and of corners
-by 1/4 together, which turns the natural-boundary rows into a consistent
-control-volume scheme (second order at free edges in 1-D).
+by 1/4 together, and so is every difference row of K by the share of its
+centre's control area that lies in the sheet (rows of D1+ and D11 on the edges
+a2 = 0, L2 by 1/2, rows of D2+ and D22 on a1 = 0, L1 by 1/2; cell-centred rows
+D12+ and the shear terms keep weight 1). That is the trapezoidal rule for the
+energy (13) and turns the natural-boundary rows into a consistent
+control-volume scheme: second order at free edges. Weighting only M, C and F
+(DESIGN.md's wording) is consistent in 1-D but not in 2-D, where the fluxes
+along an edge row would keep their full weight against a halved load.
 
 Assembly: K's data array is linear in the 7 node fields (alpha_11, alpha_12,
 alpha_21, alpha_22, beta_11, beta_12 + beta_21, beta_22), so a sparse matrix P
@@ -108,11 +114,13 @@ class FDModel:
         self._build_assembly()
 
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
-        w1 = np.ones(M)
-        w1[[0, -1]] = 0.5
-        w2 = np.ones(N)
-        w2[[0, -1]] = 0.5
-        self.area_weight = np.outer(w1, w2) if weighting == "control-area" else np.ones((M, N))
+        w1, w2 = np.ones(M), np.ones(N)
+        if weighting == "control-area":
+            w1[[0, -1]] = w2[[0, -1]] = 0.5
+        self.area_weight = np.outer(w1, w2)
+        # quadrature weight of each difference row (zero where the row is undefined)
+        across = {"D1": w2[None, :], "D2": w1[:, None], "D11": w2[None, :], "D22": w1[:, None], "D12": 1.0}
+        self.row_weight = {k: self.valid[k] * across[k] for k in self.valid}
         self.mu = mat.field("mu", (M, N))
         self.gamma = mat.field("gamma", (M, N))
 
@@ -152,8 +160,10 @@ class FDModel:
         self._P_bend = self._P[:, split:].tocsr()
 
     def _weights(self, alpha: np.ndarray, beta: np.ndarray) -> np.ndarray:
-        """The 7 weight fields of K, flattened in the order of _TERMS."""
-        w = [alpha[0, 0], alpha[0, 1], alpha[1, 0], alpha[1, 1], beta[0, 0], beta[0, 1] + beta[1, 0], beta[1, 1]]
+        """The 7 weight fields of K (times the row weights), flattened in the order of _TERMS."""
+        rw = self.row_weight
+        w = [alpha[0, 0] * rw["D1"], alpha[0, 1] * rw["D12"], alpha[1, 0] * rw["D12"], alpha[1, 1] * rw["D2"],
+             beta[0, 0] * rw["D11"], (beta[0, 1] + beta[1, 0]) * rw["D12"], beta[1, 1] * rw["D22"]]
         return np.concatenate([x.ravel() for x in w])
 
     def _assemble(self, w: np.ndarray, P=None) -> sp.csr_matrix:
@@ -264,7 +274,8 @@ class FDModel:
         """Elastic energy (J): eq. (13) for tpbf87, h1 h2 R^T K R / 2 for the frozen model.
 
         Eq. (13) is summed over the nodes where each difference of eq. (17) is
-        defined, each node standing for an area h1 h2.
+        defined, each node standing for an area h1 h2 (times the row weights
+        of the control-area weighting).
         """
         if self.linear:
             ws = self._weights(self.alpha_fixed, self.beta_fixed)
@@ -274,15 +285,14 @@ class FDModel:
             dA = self.h1 * self.h2
             return Energy(0.5 * dA * float(np.sum(X * (Ks @ X))), 0.5 * dA * float(np.sum(X * (Kb @ X))))
         G, B = self.tensors(X)
-        v = self.valid
-        first = (v["D1"], v["D2"])
-        second = ((v["D11"], v["D12"]), (v["D12"], v["D22"]))
+        rw = self.row_weight
+        stretch = ((rw["D1"], rw["D12"]), (rw["D12"], rw["D2"]))
+        bend = ((rw["D11"], rw["D12"]), (rw["D12"], rw["D22"]))
         es = eb = 0.0
         for i in range(2):
             for j in range(2):
-                ms = first[i] & first[j]
-                es += np.sum((self.eta[i, j] * (G[i, j] - self.G0[i, j]) ** 2)[ms])
-                eb += np.sum((self.xi[i, j] * (B[i, j] - self.B0[i, j]) ** 2)[second[i][j]])
+                es += np.sum(stretch[i][j] * self.eta[i, j] * (G[i, j] - self.G0[i, j]) ** 2)
+                eb += np.sum(bend[i][j] * self.xi[i, j] * (B[i, j] - self.B0[i, j]) ** 2)
         dA = self.h1 * self.h2
         return Energy(float(es * dA), float(eb * dA))
 
