@@ -7,8 +7,9 @@ backend protocol and the time stepper of eq. (22)-(27). The backends are
 elements); the validation harness and the command line live in ``validation``.
 """
 
-from .backend import Backend, Energy, Sample
+from .backend import Backend, Energy, EnergyBackend, Sample
 from .constraints import Clamp, Pin, Slide, select
+from .implicit import ConvergenceError, equilibrium
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal
 from .material import Material
 from .scene import FORCE_MODELS, Scene
@@ -20,7 +21,7 @@ from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Sto
 __version__ = "0.1.0"
 
 __all__ = [
-    "Backend", "Energy", "Sample", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
+    "Backend", "EnergyBackend", "Energy", "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
     "PointLoad", "Sinusoidal", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "RunResult", "State", "TimeStepper", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 
 from .scene import Scene
 
-__all__ = ["Backend", "Sample", "Energy"]
+__all__ = ["Backend", "EnergyBackend", "Sample", "Energy"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,7 @@ class Backend(Protocol):
     scene: Scene
     ndof: int
     linear: bool  # True when K does not depend on X (the "frozen" model)
+    measure: float  # area each row of M, C and F stands for (FD: h1 h2, pointwise rows; FE: 1)
 
     def initial_state(self) -> np.ndarray: ...
     def discretize(self, surface) -> np.ndarray: ...
@@ -59,4 +60,15 @@ class Backend(Protocol):
     def load(self, X: np.ndarray, t: float) -> np.ndarray: ...
     def energy(self, X: np.ndarray) -> Energy: ...
     def kinetic_energy(self, V: np.ndarray) -> float: ...
+
+
+class EnergyBackend(Backend, Protocol):
+    """A backend whose internal force is the gradient of an energy ("variational", "frozen").
+
+    The implicit schemes and :func:`deformable.equilibrium` need these; vectors
+    of the Hessian are coordinate-blocked (index ``a * ndof + k``).
+    """
+
+    def energy_gradient(self, X: np.ndarray) -> np.ndarray: ...
+    def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix: ...
     def grid(self, X: np.ndarray) -> np.ndarray: ...

@@ -164,24 +164,39 @@ class TimeStepper:
     dt : float
         Time step (s), positive.
     scheme : str, optional
-        "tpbf87" (eq. 22-27, the default for the tpbf87 and frozen models).
-        "implicit-euler" and "newmark" belong to the variational model (planned).
+        "tpbf87" (eq. 22-27, the default for the tpbf87 and frozen models),
+        "implicit-euler" (the default for the variational model) or "newmark"
+        (second order): Newton steps on an incremental potential, for models
+        with an energy (:mod:`deformable.implicit`).
+    newton : dict, optional
+        rtol, atol, max_iter of the Newton solves of the implicit schemes.
     """
 
-    def __init__(self, model, dt: float, scheme: str | None = None):
+    def __init__(self, model, dt: float, scheme: str | None = None, newton: dict | None = None):
         try:
             dt = float(dt)
         except (TypeError, ValueError):
             raise ValueError(f"dt must be a positive number, got {dt!r}") from None
         if not np.isfinite(dt) or dt <= 0:
             raise ValueError(f"dt must be positive and finite, got {dt!r}")
-        scheme = scheme or "tpbf87"
+        force_model = model.scene.force_model
+        scheme = scheme or ("implicit-euler" if force_model == "variational" else "tpbf87")
         if scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-        if scheme != "tpbf87":
-            raise NotImplementedError(f"scheme {scheme!r} is planned with the variational force model")
+        if scheme == "tpbf87" and force_model == "variational":
+            raise ValueError("scheme 'tpbf87' lags the strength matrix K(r) of eq. (20), which the variational "
+                             "model does not have; use 'implicit-euler' or 'newmark'")
+        if scheme != "tpbf87" and force_model == "tpbf87":
+            raise ValueError(f"scheme {scheme!r} needs an energy; the tpbf87 force (14) is not a gradient "
+                             "(use force_model 'variational', or scheme 'tpbf87')")
         self.model, self.dt, self.scheme = model, dt, scheme
         self.timings = {"assembly": 0.0, "factorisation": 0.0, "solve": 0.0}
+        self._implicit = None
+        if scheme != "tpbf87":
+            from .implicit import ImplicitIntegrator
+
+            self._implicit = ImplicitIntegrator(model, dt, scheme, **(newton or {}))
+            return
         M, C = model.mass(), model.damping()
         self._B1 = (M / dt**2 + C / (2 * dt)).tocsr()  # multiplies R_t in (26)
         self._B2 = (M / dt - C / 2).tocsr()  # multiplies V_t in (26)
@@ -222,8 +237,18 @@ class TimeStepper:
             self._lu_cache = factors
         return factors
 
+    @property
+    def newton_reports(self) -> list:
+        """Newton iterations and residuals per step of the implicit schemes (empty for tpbf87)."""
+        return self._implicit.reports if self._implicit is not None else []
+
     def step(self, state: State) -> State:
-        """Advance one step of eq. (24): returns the state at t + dt."""
+        """Advance one step: eq. (24), or a Newton step of the implicit schemes; the state at t + dt."""
+        if self._implicit is not None:
+            t0 = _time.perf_counter()
+            new = self._implicit.step(state, self._X0)
+            self.timings["solve"] += _time.perf_counter() - t0
+            return new
         dt, model = self.dt, self.model
         factors = self._factorise(state.X)
         t0 = _time.perf_counter()

@@ -44,6 +44,7 @@ from deformable.scene import Scene
 from deformable.sheet import as_surface
 
 from .operators import node_derivatives, operators, valid_rows
+from .variational import DiscreteEnergy
 
 __all__ = ["FDModel", "WEIGHTINGS"]
 
@@ -97,15 +98,12 @@ class FDModel:
     def __init__(self, scene: Scene, weighting: str = "pointwise"):
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
-        if scene.force_model == "variational":
-            raise NotImplementedError(
-                "force_model 'variational' (the exact gradient of eq. 13) is planned; use 'tpbf87' or 'frozen'"
-            )
         self.scene, self.weighting = scene, weighting
         sheet, mat = scene.sheet, scene.material
         self.M, self.N = M, N = sheet.nodes
         self.h1, self.h2 = sheet.h
         self.ndof = M * N
+        self.measure = self.h1 * self.h2  # each row of M, C, F stands for this area
         self.linear = scene.force_model == "frozen"
         self.a1, self.a2 = sheet.coordinates()
 
@@ -136,6 +134,7 @@ class FDModel:
         else:
             self.eta = mat.tensor("eta", (M, N))
             self.xi = mat.tensor("xi", (M, N))
+            self._energy = DiscreteEnergy(self)
         self._build_constraints()
 
     # -- assembly -----------------------------------------------------------
@@ -220,10 +219,41 @@ class FDModel:
 
     # -- the semi-discrete system (21) --------------------------------------
     def stiffness(self, X: np.ndarray) -> sp.csr_matrix:
-        """Strength matrix K(r) of eq. (20), (M N, M N), symmetric; fixed pattern."""
+        """Strength matrix K(r) of eq. (20), (M N, M N), symmetric; fixed pattern.
+
+        Defined for the tpbf87 and frozen force models; the variational model
+        couples the coordinates and has :meth:`energy_hessian` instead.
+        """
         if self.linear:
             return self._K_const
+        if self.scene.force_model == "variational":
+            raise ValueError("the variational force model has no strength matrix K(r) of eq. (20); "
+                             "use energy_gradient / energy_hessian (TimeStepper scheme 'implicit-euler' or 'newmark')")
         return self._assemble(self._weights(*self.alpha_beta(X)))
+
+    def energy_gradient(self, X: np.ndarray) -> np.ndarray:
+        """Exact gradient of the discrete energy, (M N, 3) (N per unit displacement).
+
+        Variational model: the gradient of eq. (13) (:mod:`fdmodel.variational`);
+        frozen model: h1 h2 K R. The tpbf87 force (14) is not a gradient.
+        """
+        if self.linear:
+            return self.measure * (self._K_const @ X)
+        if self.scene.force_model != "variational":
+            raise ValueError("force_model 'tpbf87' has no energy gradient: its force (14) is not the gradient "
+                             "of eq. (13); use force_model 'variational'")
+        return self._energy.gradient(X)
+
+    def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
+        """Hessian of the discrete energy (3 M N, 3 M N), coordinates in blocks (index a M N + k).
+
+        ``kind`` "newton" (exact) or "gauss-newton" (positive semi-definite).
+        """
+        if self.linear:
+            return sp.kron(sp.identity(3), self.measure * self._K_const, format="csr")
+        if self.scene.force_model != "variational":
+            raise ValueError("force_model 'tpbf87' has no energy Hessian; use force_model 'variational'")
+        return self._energy.hessian(X, kind)
 
     def internal_force(self, X: np.ndarray) -> np.ndarray:
         """e of eq. (16) at the nodes: K(r) R, (M N, 3)."""
@@ -284,17 +314,7 @@ class FDModel:
             Kb = self._assemble(ws[split:], self._P_bend)
             dA = self.h1 * self.h2
             return Energy(0.5 * dA * float(np.sum(X * (Ks @ X))), 0.5 * dA * float(np.sum(X * (Kb @ X))))
-        G, B = self.tensors(X)
-        rw = self.row_weight
-        stretch = ((rw["D1"], rw["D12"]), (rw["D12"], rw["D2"]))
-        bend = ((rw["D11"], rw["D12"]), (rw["D12"], rw["D22"]))
-        es = eb = 0.0
-        for i in range(2):
-            for j in range(2):
-                es += np.sum(stretch[i][j] * self.eta[i, j] * (G[i, j] - self.G0[i, j]) ** 2)
-                eb += np.sum(bend[i][j] * self.xi[i, j] * (B[i, j] - self.B0[i, j]) ** 2)
-        dA = self.h1 * self.h2
-        return Energy(float(es * dA), float(eb * dA))
+        return Energy(*self._energy.energy(X))
 
     def kinetic_energy(self, V: np.ndarray) -> float:
         """Kinetic energy h1 h2 V^T M V / 2 (J): the FD rows are per unit area."""

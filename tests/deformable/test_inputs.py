@@ -67,9 +67,14 @@ def test_stepper_rejects_non_positive_dt(dt):
         dm.TimeStepper(model, dt=dt)
 
 
-def test_variational_model_is_announced_as_planned():
-    with pytest.raises(NotImplementedError, match="planned"):
-        FDModel(dm.Scene(dm.Sheet(nodes=(5, 5)), dm.Material(eta=1.0), force_model="variational"))
+def test_schemes_must_fit_the_force_model():
+    sheet, mat = dm.Sheet(nodes=(5, 5)), dm.Material(eta=1.0)
+    with pytest.raises(ValueError, match="needs an energy"):
+        dm.TimeStepper(FDModel(dm.Scene(sheet, mat)), dt=1e-3, scheme="newmark")
+    with pytest.raises(ValueError, match="no strength matrix|does not have"):
+        dm.TimeStepper(FDModel(dm.Scene(sheet, mat, force_model="variational")), dt=1e-3, scheme="tpbf87")
+    with pytest.raises(ValueError, match=r"scheme must be one of.*'leapfrog'"):
+        dm.TimeStepper(FDModel(dm.Scene(sheet, mat)), dt=1e-3, scheme="leapfrog")
 
 
 def hanging(dt):

@@ -1,0 +1,221 @@
+r"""The discrete energy (13) on the FD grid, with its exact gradient and Hessian approximations.
+
+The "variational" force model uses the gradient of the energy the paper writes
+down instead of the force (14) (DESIGN.md: the two differ; under (14) a flat
+sheet has no linear bending stiffness). On the node grid
+
+    E(r) = h1 h2 sum_k sum_ij  c^S_ij[k] s_ij[k]^2 + c^B_ij[k] b_ij[k]^2,
+    s_ij = D_i+ r . D_j+ r - G0_ij                  (eq. 18)
+    b_ij = n . D_ij r - B0_ij                         (eq. 19)
+
+with ``c^S_11 = eta_11``, ``c^S_22 = eta_22``, ``c^S_12 = eta_12 + eta_21``
+(G12 = G21 share one residual), likewise ``c^B`` with xi, each times the row
+weight of the FD model (its validity mask and, for the control-area weighting,
+the trapezoidal share). It is the energy :meth:`FDModel.energy` reports.
+
+The normal depends on r: ``n = c/|c|``, ``c = t1 x t2``, ``t_i = T_i r`` (forward
+differences, backward on the last row). For a vector v, ``d(v . n) = w . dc``
+with ``w = (v - (v.n) n)/|c|``, so ``d(v . n)/dt1 = t2 x w`` and
+``d(v . n)/dt2 = w x t1``. That gives the exact gradient and the Jacobian J of
+the residuals; the Hessian is offered as Gauss-Newton ``2 J^T diag(c) J``
+(symmetric positive semi-definite) or the exact Hessian, which adds
+``sum 2 c rho Hess(rho)`` over the residuals. For stretching
+``Hess(s_ij) = D_i^T D_j + D_j^T D_i`` per coordinate. For bending, with
+``f(c) = v . c/|c|``, ``w = grad f = (v - (v.n) n)/|c|``,
+``Hess f = -(w n^T + n w^T)/|c| - (v.n)(I - n n^T)/|c|^2``, ``dc = C (dt1, dt2)``,
+``C = [-[t2]x, [t1]x]`` and ``d2c = 2 dt1 x dt2``:
+
+    d2 b = 2 dv . (I - n n^T)/|c| C (dt1, dt2) + (C dt)^T Hess f (C dt) + 2 w . (dt1 x dt2),
+
+a 9 x 9 form per node in (dt1, dt2, dv), assembled through the operators.
+
+Vectors are laid out coordinate by coordinate: flat index ``a * ndof + k`` for
+coordinate a of node k.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["DiscreteEnergy", "HESSIANS"]
+
+HESSIANS = ("gauss-newton", "newton")
+
+
+def _tangent_op(n: int, h: float) -> sp.csr_matrix:
+    """Forward difference with the backward one on the last row."""
+    main = np.full(n, -1.0 / h)
+    upper = np.full(n - 1, 1.0 / h)
+    lower = np.zeros(n - 1)
+    main[-1] = 1.0 / h
+    lower[-1] = -1.0 / h
+    return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
+
+
+def _rowdot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("ka,ka->k", a, b)
+
+
+class DiscreteEnergy:
+    """Energy (13) of an :class:`~fdmodel.FDModel` grid as a function of the positions.
+
+    Parameters
+    ----------
+    model : FDModel
+        Supplies operators, row weights, eta, xi, G0, B0 and spacings.
+    """
+
+    STRETCH = ((0, 0, "D1", "D1"), (1, 1, "D2", "D2"), (0, 1, "D1", "D2"))
+    BEND = ((0, 0, "D11"), (1, 1, "D22"), (0, 1, "D12"))
+
+    def __init__(self, model):
+        self.model = model
+        M, N = model.M, model.N
+        self.n = model.ndof
+        ops = model.ops
+        rw, dA = model.row_weight, model.h1 * model.h2
+        I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
+        self.T1 = sp.kron(_tangent_op(M, model.h1), I2, format="csr")
+        self.T2 = sp.kron(I1, _tangent_op(N, model.h2), format="csr")
+        eta, xi = model.eta, model.xi
+        rows = {(0, 0): "D1", (1, 1): "D2", (0, 1): "D12"}
+        brows = {(0, 0): "D11", (1, 1): "D22", (0, 1): "D12"}
+
+        def both(w, i, j):
+            return w[i, j] if i == j else w[0, 1] + w[1, 0]
+
+        self.cS = [(dA * rw[rows[i, j]] * both(eta, i, j)).ravel() for i, j, _, _ in self.STRETCH]
+        self.cB = [(dA * rw[brows[i, j]] * both(xi, i, j)).ravel() for i, j, _ in self.BEND]
+        self.G0 = [model.G0[i, j].ravel() for i, j, _, _ in self.STRETCH]
+        self.B0 = [model.B0[i, j].ravel() for i, j, _ in self.BEND]
+        self.ops = ops
+        self._shape_S = self._stretch_shapes()
+
+    # -- pieces -------------------------------------------------------------
+    def _frame(self, X):
+        t1, t2 = self.T1 @ X, self.T2 @ X
+        c = np.cross(t1, t2)
+        nc = np.linalg.norm(c, axis=1)
+        return t1, t2, c / nc[:, None], nc
+
+    def residuals(self, X: np.ndarray):
+        """Stretching and bending residuals s_ij, b_ij, each a list of three (ndof,) arrays.
+
+        G and B are the model's own (eq. 18-19), so the rest state has residuals exactly zero.
+        """
+        G, B = self.model.tensors(X)
+        s = [G[i, j].ravel() - g0 for (i, j, _, _), g0 in zip(self.STRETCH, self.G0)]
+        b = [B[i, j].ravel() - b0 for (i, j, _), b0 in zip(self.BEND, self.B0)]
+        return s, b
+
+    def energy(self, X: np.ndarray) -> tuple[float, float]:
+        """(stretching, bending) parts of E (J)."""
+        s, b = self.residuals(X)
+        return (float(sum(np.dot(c, r * r) for c, r in zip(self.cS, s))),
+                float(sum(np.dot(c, r * r) for c, r in zip(self.cB, b))))
+
+    def gradient(self, X: np.ndarray) -> np.ndarray:
+        """Exact gradient dE/dX, (ndof, 3) (N per unit of displacement)."""
+        ops = self.ops
+        d = {k: ops[k] @ X for k in ("D1", "D2")}
+        g = np.zeros_like(X)
+        for (i, j, a, b), c, g0 in zip(self.STRETCH, self.cS, self.G0):
+            f = 2 * c * (_rowdot(d[a], d[b]) - g0)
+            g += ops[a].T @ (f[:, None] * d[b]) + ops[b].T @ (f[:, None] * d[a])
+        t1, t2, nrm, nc = self._frame(X)
+        W = np.zeros_like(X)
+        for (i, j, op), c, b0 in zip(self.BEND, self.cB, self.B0):
+            v = ops[op] @ X
+            vn = _rowdot(nrm, v)
+            f = 2 * c * (vn - b0)
+            g += ops[op].T @ (f[:, None] * nrm)
+            W += (f / nc)[:, None] * (v - vn[:, None] * nrm)
+        g += self.T1.T @ np.cross(t2, W) + self.T2.T @ np.cross(W, t1)
+        return g
+
+    def _stretch_shapes(self):
+        """The constant matrices D_i^T diag(.) D_j of the exact stretching term, as (op_a, op_b)."""
+        return [(self.ops[a], self.ops[b]) for _, _, a, b in self.STRETCH]
+
+    def jacobian(self, X: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+        """Jacobian of all six residuals (6 ndof, 3 ndof) and their weights c (6 ndof,)."""
+        ops = self.ops
+        d = {k: ops[k] @ X for k in ("D1", "D2")}
+        blocks, weights = [], []
+        for (_, _, a, b), c in zip(self.STRETCH, self.cS):
+            row = [sp.diags(d[b][:, k]) @ ops[a] + sp.diags(d[a][:, k]) @ ops[b] for k in range(3)]
+            blocks.append(sp.hstack(row))
+            weights.append(c)
+        t1, t2, nrm, nc = self._frame(X)
+        for (_, _, op), c in zip(self.BEND, self.cB):
+            v = ops[op] @ X
+            w = (v - _rowdot(nrm, v)[:, None] * nrm) / nc[:, None]
+            p1, p2 = np.cross(t2, w), np.cross(w, t1)
+            row = [sp.diags(nrm[:, k]) @ ops[op] + sp.diags(p1[:, k]) @ self.T1 + sp.diags(p2[:, k]) @ self.T2
+                   for k in range(3)]
+            blocks.append(sp.hstack(row))
+            weights.append(c)
+        return sp.vstack(blocks, format="csr"), np.concatenate(weights)
+
+    def hessian(self, X: np.ndarray, kind: str = "gauss-newton") -> sp.csr_matrix:
+        """Hessian approximation (3 ndof, 3 ndof), coordinate-blocked.
+
+        ``"gauss-newton"``: ``2 J^T diag(c) J``, symmetric positive semi-definite.
+        ``"newton"``: the exact Hessian (may be indefinite, e.g. under compression).
+        """
+        if kind not in HESSIANS:
+            raise ValueError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+        J, c = self.jacobian(X)
+        H = (J.T @ sp.diags(2 * c) @ J).tocsr()
+        if kind == "newton":
+            s, _ = self.residuals(X)
+            S = None
+            for (A, B), cc, r in zip(self._shape_S, self.cS, s):
+                f = sp.diags(2 * cc * r)
+                term = A.T @ f @ B + B.T @ f @ A
+                S = term if S is None else S + term
+            H = (H + sp.kron(sp.identity(3), S) + self._bending_second_order(X)).tocsr()
+        return H
+
+    def _bending_second_order(self, X: np.ndarray) -> sp.csr_matrix:
+        """sum_ij 2 c b_ij Hess(b_ij), (3 ndof, 3 ndof): see the module docstring."""
+        n = self.n
+        t1, t2, nrm, nc = self._frame(X)
+        P = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
+
+        def skew(a):
+            z = np.zeros(a.shape[:-1])
+            return np.stack([np.stack([z, -a[..., 2], a[..., 1]], -1),
+                             np.stack([a[..., 2], z, -a[..., 0]], -1),
+                             np.stack([-a[..., 1], a[..., 0], z], -1)], -2)
+
+        C = np.concatenate([-skew(t2), skew(t1)], axis=-1)  # (n, 3, 6)
+        k = np.arange(n)
+        g_idx = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2])
+        a_idx = np.array([0, 1, 2, 0, 1, 2, 0, 1, 2])
+        rows = (g_idx[:, None] * 3 * n + a_idx[:, None] * n)[None, :, :] + k[:, None, None]  # (n, 9, 1)
+        rows = np.broadcast_to(rows, (n, 9, 9))
+        cols = np.swapaxes(rows, 1, 2)
+        I3 = sp.identity(3, format="csr")
+        total = None
+        for (_, _, op), c, b0 in zip(self.BEND, self.cB, self.B0):
+            v = self.ops[op] @ X
+            vn = _rowdot(nrm, v)
+            w = (v - vn[:, None] * nrm) / nc[:, None]
+            Hf = -(w[:, :, None] * nrm[:, None, :] + nrm[:, :, None] * w[:, None, :]) / nc[:, None, None] \
+                - vn[:, None, None] * P / nc[:, None, None] ** 2
+            H9 = np.zeros((n, 9, 9))
+            H9[:, :6, :6] = np.einsum("kai,kab,kbj->kij", C, Hf, C)
+            Wx = skew(w)
+            H9[:, 0:3, 3:6] += -Wx
+            H9[:, 3:6, 0:3] += Wx
+            Q = np.einsum("kab,kbj->kaj", P, C) / nc[:, None, None]
+            H9[:, 6:, :6] = Q
+            H9[:, :6, 6:] = np.swapaxes(Q, 1, 2)
+            H9 *= (2 * c * (vn - b0))[:, None, None]
+            Hd = sp.csr_matrix((H9.ravel(), (rows.ravel(), cols.ravel())), shape=(9 * n, 9 * n))
+            L = sp.vstack([sp.kron(I3, self.T1), sp.kron(I3, self.T2), sp.kron(I3, self.ops[op])], format="csr")
+            term = L.T @ Hd @ L
+            total = term if total is None else total + term
+        return total
