@@ -92,6 +92,27 @@ class Scene:
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
 
+    def rest_tensors(self, a1, a2, G: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """G0 and B0 at points (a1, a2) of shape S, each (2, 2, *S).
+
+        ``G`` and ``B`` (2, 2, *S) are the backend's own tensors of the
+        discretised rest shape; ``rest_metric`` / ``rest_curvature`` override them.
+        """
+        out = []
+        for name, default in (("rest_metric", G), ("rest_curvature", B)):
+            value = getattr(self, name)
+            if value is None:
+                out.append(default)
+            elif callable(value):
+                field = np.asarray(value(a1, a2), float)
+                if field.shape != np.shape(a1) + (2, 2):
+                    raise ValueError(f"Scene.{name} callable returned shape {field.shape}, "
+                                     f"expected {np.shape(a1) + (2, 2)}")
+                out.append(np.moveaxis(field, (-2, -1), (0, 1)))
+            else:
+                out.append(np.broadcast_to(value.reshape((2, 2) + (1,) * np.ndim(a1)), default.shape).copy())
+        return out[0], out[1]
+
     def with_nodes(self, nodes: tuple[int, int]) -> Scene:
         """The same scene on another node grid (per-node material arrays must be scalars)."""
         from dataclasses import replace

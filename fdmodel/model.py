@@ -71,18 +71,6 @@ def _pair_products(Da: sp.csr_matrix, Db: sp.csr_matrix):
     return Da.indices[rep], Db.indices[jb], Da.data[rep] * Db.data[jb], ka[rep]
 
 
-def _override(value, a1, a2, default):
-    """G0 or B0 as a (2, 2, M, N) field: the discrete rest value or the scene's override."""
-    if value is None:
-        return default
-    if callable(value):
-        out = np.asarray(value(a1, a2), float)
-        if out.shape != a1.shape + (2, 2):
-            raise ValueError(f"rest tensor callable returned shape {out.shape}, expected {a1.shape + (2, 2)}")
-        return np.moveaxis(out, (-2, -1), (0, 1))
-    return np.broadcast_to(np.asarray(value, float)[:, :, None, None], default.shape).copy()
-
-
 class FDModel:
     """Finite-difference backend (paper section 2.3); satisfies :class:`deformable.Backend`.
 
@@ -124,9 +112,7 @@ class FDModel:
 
         # rest state: discrete G0, B0 of the rest shape, or the scene's overrides
         R0 = self.discretize(sheet.rest)
-        G, B = self.tensors(R0)
-        self.G0 = _override(scene.rest_metric, self.a1, self.a2, G)
-        self.B0 = _override(scene.rest_curvature, self.a1, self.a2, B)
+        self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2, *self.tensors(R0))
         if scene.force_model == "frozen":
             self.alpha_fixed = mat.tensor("alpha", (M, N))
             self.beta_fixed = mat.tensor("beta", (M, N))
