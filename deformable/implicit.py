@@ -76,11 +76,7 @@ def _newton(phi, grad, hess, x, free, *, rtol, atol, max_iter, label):
     report = NewtonReport()
     g = grad(x)[free]
     r0 = np.max(np.abs(g)) if g.size else 0.0
-    H0 = hess(x, "gauss-newton")
-    # round-off floor: internal forces are sums of terms of size |diag H| |x|
-    floor = 1e3 * np.finfo(float).eps * np.max(np.abs(H0.diagonal()[free])) * max(1.0, np.max(np.abs(x)))
-    target = max(rtol * r0, atol, floor)
-    report.floor = float(floor)
+    target = max(rtol * r0, atol)
     report.residuals.append(float(r0))
     for it in range(1, max_iter + 1):
         if report.residuals[-1] <= target:
@@ -91,6 +87,11 @@ def _newton(phi, grad, hess, x, free, *, rtol, atol, max_iter, label):
         for kind, shift in (("newton", 0.0), ("gauss-newton", 0.0), ("gauss-newton", 1e-8), ("gauss-newton", 1e-4),
                             ("gauss-newton", 1e-2)):
             H = hess(x, kind)[free][:, free].tocsc()
+            if not report.floor:
+                # round-off floor: internal forces are sums of terms of size |diag H| |x|
+                report.floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(H.diagonal()))
+                                     * max(1.0, np.max(np.abs(x))))
+                target = max(target, report.floor)
             if shift:
                 H = H + shift * abs(H.diagonal()).mean() * sp.identity(H.shape[0], format="csc")
             try:

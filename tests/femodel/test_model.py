@@ -261,10 +261,11 @@ def test_unknown_element_names_the_valid_ones():
     assert ELEMENTS == ("hermite",)
 
 
-def test_variational_is_planned():
-    scene = dm.Scene(dm.Sheet(nodes=(4, 4)), dm.Material(), force_model="variational")
-    with pytest.raises(NotImplementedError, match="planned"):
-        FEModel(scene)
+def test_variational_has_no_strength_matrix():
+    scene = dm.Scene(dm.Sheet(nodes=(4, 4)), dm.Material(eta=1.0), force_model="variational")
+    model = FEModel(scene)
+    with pytest.raises(ValueError, match="no strength matrix"):
+        model.stiffness(model.initial_state())
 
 
 def test_bad_input_names_field_and_value():
