@@ -8,6 +8,7 @@ elements); the validation harness and the command line live in ``validation``.
 """
 
 from .backend import Backend, Energy, EnergyBackend, Sample
+from .compatibility import IncompatibleRestState, check_compatibility, check_rest_state
 from .constraints import Clamp, Pin, Slide, select
 from .implicit import ConvergenceError, equilibrium
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal
@@ -21,7 +22,7 @@ from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Sto
 __version__ = "0.1.0"
 
 __all__ = [
-    "Backend", "EnergyBackend", "Energy", "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
+    "IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy", "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
     "PointLoad", "Sinusoidal", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "RunResult", "State", "TimeStepper", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",

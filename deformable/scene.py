@@ -57,6 +57,12 @@ class Scene:
         symmetric 2 x 2 tensor, or a callable (a1, a2) -> (..., 2, 2).
     name : str
         A label for outputs.
+
+    Warns
+    -----
+    IncompatibleRestState
+        When rest_metric / rest_curvature override the rest shape with a pair
+        that is not the metric and curvature of any surface (eq. 10, section 3.2).
     """
 
     sheet: Sheet
@@ -91,6 +97,11 @@ class Scene:
         object.__setattr__(self, "constraints", constraints)
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
+        if self.rest_metric is not None or self.rest_curvature is not None:
+            # a rest shape alone is always compatible; overrides may not be (eq. 10)
+            from .compatibility import warn_if_incompatible
+
+            warn_if_incompatible(self, stacklevel=4)  # the caller of Scene(...)
 
     def rest_tensors(self, a1, a2, G: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """G0 and B0 at points (a1, a2) of shape S, each (2, 2, *S).
