@@ -17,7 +17,7 @@ def run(name, levels=None, **kw):
 
 def test_registry_holds_every_study_in_order():
     get_study("tensors")
-    assert list(STUDIES) == ["tensors", "modes", "statics", "cross", "time", "compatibility", "work"]
+    assert list(STUDIES) == ["tensors", "modes", "statics", "cross", "time", "compatibility", "work", "variational"]
 
 
 def test_tensors_orders_on_the_generic_monge_patch():
@@ -76,3 +76,13 @@ def test_work_errors_fall():
 @pytest.mark.parametrize("name", ["tensors", "modes", "statics", "compatibility"])
 def test_full_levels(name):
     run(name, get_study(name).levels.full)
+
+
+def test_variational_study_curls_both_ways_and_reports_tpbf87():
+    res = run("variational")
+    for kappa in ("+2", "-2"):
+        d = res.data[f"arc_kappa_{kappa}"]
+        p = fit_order(d["h"], d["error"])
+        assert abs(p - 1) <= 0.3, f"curling strip kappa {kappa}: tip error order {p:.2f}, theory 1"
+    tpbf87 = {row[0] + "|" + str(row[1]): row[2] for row in next(t for t in res.tables if t.name == "tpbf87").rows}
+    assert tpbf87["+2|0.001"] == "diverged" and tpbf87["-2|0.0001"] == "finished"
