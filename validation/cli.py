@@ -75,6 +75,9 @@ def main(argv=None) -> int:
     except (CommandError, ValueError) as err:
         print(f"error: {err}" if not str(err).startswith("deformable") else str(err), file=sys.stderr)
         return 2
+    except OSError as err:  # a file system failure after the checks (disk full, folder removed)
+        print(f"error: {err}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

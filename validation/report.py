@@ -43,6 +43,21 @@ log = logging.getLogger(__name__)
 PACKAGES = ("deformable", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
 
 
+def writable_folder(path) -> Path:
+    """Create ``path`` if needed and check that files can be written in it; ValueError otherwise.
+
+    Called before any work starts, so a bad ``--out`` costs nothing and leaves nothing half-written.
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".write-test-"):
+            pass
+    except OSError as err:
+        raise ValueError(f"cannot write to output folder {str(path)!r}: {err.strerror or err}") from None
+    return path
+
+
 def versions() -> dict[str, str]:
     """Versions of Python and the packages the results depend on."""
     out = {"python": platform.python_version()}

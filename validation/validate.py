@@ -15,7 +15,7 @@ import logging
 import sys
 import time
 
-from .report import write_index, write_study
+from .report import writable_folder, write_index, write_study
 from .study import Runner, get_study
 
 __all__ = ["configure", "execute", "run"]
@@ -62,6 +62,7 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
             raise ValueError("--surfaces needs at least one surface name")
         for s in surfaces:
             sf.get(s)
+    writable_folder(out)
     results = []
     with Runner(jobs, progress=progress) as runner:
         for st, k in zip(studies, counts):

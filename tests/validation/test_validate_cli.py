@@ -27,3 +27,12 @@ def test_a_small_run_writes_its_folder_and_the_index(capsys, tmp_path):
     assert code == 0, out
     assert (tmp_path / "statics" / "summary.md").is_file() and (tmp_path / "index.md").is_file()
     assert "checks passed, 0 failed" in out
+
+
+def test_unwritable_output_folder_is_one_line_before_any_work(capsys, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    code = main(["validate", "statics", "--out", str(blocker / "reports")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "cannot write to output folder" in err
