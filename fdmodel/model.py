@@ -27,7 +27,9 @@ along an edge row would keep their full weight against a halved load.
 Assembly: K's data array is linear in the 7 node fields (alpha_11, alpha_12,
 alpha_21, alpha_22, beta_11, beta_12 + beta_21, beta_22), so a sparse matrix P
 that maps them to K.data is built once; each step is one sparse mat-vec
-``K.data = P w`` on a fixed pattern.
+``K.data = P w`` on a fixed pattern. When the bending weights (xi, or beta for
+the frozen model) vanish everywhere, the pattern holds the membrane stencil
+only, so the factorisation does not pay for explicit zeros of the bending one.
 """
 
 from __future__ import annotations
@@ -97,6 +99,9 @@ class FDModel:
 
         self.ops = operators(M, N, self.h1, self.h2)
         self.valid = valid_rows(M, N)
+        # without bending weights K is the 5-point membrane stencil: keep its pattern that small
+        bend = mat.beta if scene.force_model == "frozen" else mat.xi
+        self._bending = bend is not None and bool(np.any(np.asarray(bend) != 0))
         self._build_assembly()
 
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
@@ -128,6 +133,8 @@ class FDModel:
         n = self.ndof
         rows, cols, coefs, widx = [], [], [], []
         for t, (a, b) in enumerate(_TERMS):
+            if t >= _STRETCH_TERMS and not self._bending:
+                continue
             p, q, c, k = _pair_products(self.ops[a], self.ops[b])
             rows.append(p)
             cols.append(q)
