@@ -38,6 +38,9 @@ __all__ = ["TimeStepper", "State", "RunResult", "DivergenceError", "SCHEMES"]
 
 log = logging.getLogger(__name__)
 SCHEMES = ("tpbf87", "implicit-euler", "newmark")
+#: SuperLU options of the step's factorisation: A_t is symmetric, so a symmetric
+#: ordering (minimum degree on A^T + A) and diagonal pivots
+SPLU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True), diag_pivot_thresh=0.0)
 
 
 @dataclass(frozen=True)
@@ -228,7 +231,7 @@ class TimeStepper:
         factors = []
         for block in self._system.blocks:
             Aff, Afc = self._system.matrices(A, block)
-            lu = spla.splu(Aff, permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True), diag_pivot_thresh=0.0)
+            lu = spla.splu(Aff, **SPLU_OPTIONS)
             factors.append((block, lu, Afc))
         t2 = _time.perf_counter()
         self.timings["assembly"] += t1 - t0
