@@ -112,13 +112,25 @@ class DivergenceGuard(Tracker):
     max_displacement : float, optional
         Bound on max |X - X0| (scene units); default 100 times the diagonal
         of the parameter rectangle.
+    max_stretch : float, optional
+        Bound on how much any grid edge between neighbouring nodes may grow
+        against the initial state (default 10: a sheet stretched tenfold has
+        left the model's range long before it overflows, so the last good
+        state handed back is still meaningful).
     max_energy : float, optional
         Bound on the elastic energy of eq. (13) (J); unchecked by default
         (it costs an energy evaluation each ``every`` steps).
     """
 
-    def __init__(self, max_displacement: float | None = None, max_energy: float | None = None, every: int = 1):
+    def __init__(self, max_displacement: float | None = None, max_energy: float | None = None,
+                 max_stretch: float | None = 10.0, every: int = 1):
         self.max_displacement, self.max_energy, self.every = max_displacement, max_energy, int(every)
+        self.max_stretch = max_stretch
+
+    @staticmethod
+    def _edges(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lengths of the grid edges along a1 and a2, (M-1, N) and (M, N-1)."""
+        return (np.linalg.norm(np.diff(grid, axis=0), axis=-1), np.linalg.norm(np.diff(grid, axis=1), axis=-1))
 
     def initialize(self, state, stepper, steps):
         super().initialize(state, stepper, steps)
@@ -126,6 +138,11 @@ class DivergenceGuard(Tracker):
         if self.max_displacement is None:
             L1, L2 = stepper.model.scene.sheet.size
             self.max_displacement = 100.0 * float(np.hypot(L1, L2))
+        if self.max_stretch is not None:
+            h1, h2 = stepper.model.scene.sheet.h
+            e1, e2 = self._edges(stepper.model.grid(state.X))
+            # an edge that starts collapsed is measured against a tenth of its parameter length
+            self._edges0 = (np.maximum(e1, 0.1 * h1), np.maximum(e2, 0.1 * h2))
 
     def handle(self, state):
         where = f"at step {state.step} (t = {state.t:.6g} s)"
@@ -134,6 +151,12 @@ class DivergenceGuard(Tracker):
         d = float(np.max(np.abs(state.X - self.X0)))
         if d > self.max_displacement:
             return Stop(f"diverged {where}: displacement {d:.3g} exceeds {self.max_displacement:.3g}", diverged=True)
+        if self.max_stretch is not None:
+            e1, e2 = self._edges(self.stepper.model.grid(state.X))
+            s = max(float(np.max(e1 / self._edges0[0])), float(np.max(e2 / self._edges0[1])))
+            if s > self.max_stretch:
+                return Stop(f"diverged {where}: a grid edge stretched {s:.3g} times its initial length "
+                            f"(bound {self.max_stretch:g})", diverged=True)
         if self.max_energy is not None:
             e = self.stepper.model.energy(state.X).total
             if not np.isfinite(e) or e > self.max_energy:
