@@ -85,6 +85,9 @@ class FDModel:
     State arrays X are (M N, 3), node (m, n) at row m N + n.
     """
 
+    #: the tpbf87 step is stable on stretching for dt below about step_factor h sqrt(mu / (2 eta G))
+    step_factor = 1.0
+
     def __init__(self, scene: Scene, weighting: str = "pointwise"):
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
