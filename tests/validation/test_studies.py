@@ -46,10 +46,13 @@ def test_statics_orders():
 
 
 def test_cross_difference_shrinks():
+    """FD and FE approach each other at every refinement (issue 4: hanging over three levels). No order
+    is asserted: the hanging cloth's two pinned corners are point supports of a membrane, singular in the
+    continuum, which holds both backends below their smooth-solution orders (reported in the study)."""
     res = run("cross")
     for scene in ("hanging", "flag"):
         d = res.data[f"{scene}|r|fd-fe"]
-        assert d[-1] < d[0] / 2, f"{scene}: FD-FE position differences {d}"
+        assert len(d) >= 3 and all(b < a for a, b in zip(d, d[1:])), f"{scene}: FD-FE position differences {d}"
 
 
 def test_time_order_is_one():
