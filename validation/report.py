@@ -216,7 +216,10 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
         for t in res.tables:
             (tmp / f"{t.name}.csv").write_text(_csv(t))
         for fig in res.figures:
-            plot(fig, tmp / f"{fig.name}.png")
+            if fig.image is not None:  # drawn by the study itself
+                (tmp / f"{fig.name}.png").write_bytes(fig.image)
+            else:
+                plot(fig, tmp / f"{fig.name}.png")
         os.chmod(tmp, 0o755)
         if final.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{res.study}-old-", dir=out))

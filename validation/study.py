@@ -97,11 +97,16 @@ class Panel:
 
 @dataclass(frozen=True)
 class Figure:
-    """A PNG of the report, ``<name>.png``: one or more panels side by side."""
+    """A PNG of the report, ``<name>.png``: one or more panels side by side.
+
+    ``image``, when given, is a PNG the study drew itself (a render, a map):
+    the report writer stores those bytes instead of plotting ``panels``.
+    """
 
     name: str
     caption: str
-    panels: tuple[Panel, ...]
+    panels: tuple[Panel, ...] = ()
+    image: bytes | None = field(default=None, repr=False)
 
 
 @dataclass
@@ -198,24 +203,29 @@ class Levels:
 
 @dataclass(frozen=True)
 class Study:
-    """A registered study: its function, level counts and whether it takes ``surfaces``."""
+    """A registered study: its function, level counts, whether it takes ``surfaces``.
+
+    ``in_default`` is False for a study too long for the default run of
+    ``deformable validate`` (every study in under two minutes); it runs when named.
+    """
 
     name: str
     function: Callable[..., StudyResult]
     levels: Levels
     description: str
     surfaces: bool = False
+    in_default: bool = True
 
 
 #: name -> Study, in the order studies run
 STUDIES: dict[str, Study] = {}
 
 
-def register(name: str, levels: Levels, description: str, surfaces: bool = False):
-    """Decorator registering a study function under ``name``."""
+def register(name: str, levels: Levels, description: str, surfaces: bool = False, in_default: bool = True):
+    """Decorator registering a study function under ``name`` (``in_default``: see :class:`Study`)."""
 
     def wrap(fn):
-        STUDIES[name] = Study(name, fn, levels, description, surfaces)
+        STUDIES[name] = Study(name, fn, levels, description, surfaces, in_default)
         return fn
 
     return wrap

@@ -1,8 +1,9 @@
 r"""``deformable validate [STUDY ...] [--quick | --full] [--levels K] [--surfaces S,...] [--out DIR] [--jobs N]``.
 
-Runs the registered studies (:data:`validation.study.STUDIES`; all of them at
-the quick levels when none is named), each on a shared :class:`Runner` (a
-process pool of N workers for the independent cases), and writes each
+Runs the registered studies (:data:`validation.study.STUDIES`; when none is
+named, every one whose ``in_default`` is true, at the quick levels), each on
+a shared :class:`Runner` (a process pool of N workers for the independent
+cases), and writes each
 study's report folder as soon as that study has finished, then the index.
 Unknown studies, surfaces or level counts end in one line on stderr and exit
 code 2 (a ValueError, turned into that by :mod:`validation.cli`). The exit
@@ -29,7 +30,9 @@ def configure(parser) -> None:
     from .study import STUDIES
 
     parser.add_argument("studies", nargs="*", metavar="STUDY",
-                        help=f"studies to run (default: all): {', '.join(STUDIES)}")
+                        help="studies to run (default: all but the long ones, "
+                        f"{', '.join(n for n, s in STUDIES.items() if not s.in_default) or 'none'}): "
+                        f"{', '.join(STUDIES)}")
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
                       help="quick levels (default; every study in under two minutes in all)")
@@ -54,7 +57,7 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
 
     from .study import STUDIES
 
-    studies = [get_study(n) for n in (names or STUDIES)]
+    studies = [get_study(n) for n in (names or [n for n, s in STUDIES.items() if s.in_default])]
     counts = [s.levels.resolve(s.name, mode, levels) for s in studies]
     if surfaces is not None:
         surfaces = [s.strip() for s in surfaces.split(",")] if isinstance(surfaces, str) else list(surfaces)

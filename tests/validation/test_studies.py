@@ -17,7 +17,9 @@ def run(name, levels=None, **kw):
 
 def test_registry_holds_every_study_in_order():
     get_study("tensors")
-    assert list(STUDIES) == ["tensors", "modes", "statics", "cross", "time", "compatibility", "work", "variational"]
+    assert list(STUDIES) == ["tensors", "modes", "statics", "cross", "time", "compatibility", "work", "variational",
+                             "paper"]
+    assert not STUDIES["paper"].in_default  # its sweep runs on its own: deformable validate paper
 
 
 def test_tensors_orders_on_the_generic_monge_patch():

@@ -11,3 +11,4 @@ from . import temporal  # noqa: F401,E402  (the study "time")
 from . import compatibility  # noqa: F401,E402
 from . import work  # noqa: F401,E402
 from . import variational  # noqa: F401,E402
+from . import paper  # noqa: F401,E402
