@@ -148,3 +148,24 @@ def test_fe_backend_runs_from_the_command_line(tmp_path, capsys):
                           capsys)
     assert code == 0, err
     assert list(tmp_path.glob("*.xdmf"))
+
+
+def test_force_model_option_runs_the_variational_model(tmp_path, capsys):
+    code, out, err = _run(["flag", "--force-model", "variational", "--grid", "6x6", "--steps", "3",
+                           "--out", str(tmp_path)], capsys)
+    assert code == 0, err
+    assert 'force_model = "variational"' in next(tmp_path.glob("*.toml")).read_text()
+
+
+def test_unknown_force_model_is_one_line(tmp_path, capsys):
+    code, out, err = _run(["flag", "--force-model", "tpbf88", "--out", str(tmp_path)], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "unknown force model 'tpbf88'" in err
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("scene", ["hanging", "curtain", "curtain-silky", "paper", "flag"])
+def test_every_scene_runs_on_the_fe_backend(scene, tmp_path, capsys):
+    code, out, err = _run([scene, "--backend", "fe", "--grid", "6x6", "--steps", "20", "--out", str(tmp_path)],
+                          capsys)
+    assert code == 0, err
+    assert f"{scene}: finished, 20 steps" in out and "6x6 fe" in out
