@@ -48,6 +48,8 @@ def configure(parser) -> None:
     parser.add_argument("--sizes", default="32,64,128,256", help="comma-separated grid sizes n (n x n nodes)")
     parser.add_argument("--steps", default="5", help="timed steps per size (after one warm-up step)")
     parser.add_argument("--out", default=None, help="folder for bench.csv (default: reports/bench)")
+    parser.add_argument("--variational-sizes", default="16,32", metavar="N,...",
+                        help="grid sizes of the variational rows (implicit Euler, Newton); '' for none")
 
 
 @dataclass(frozen=True)
@@ -148,16 +150,22 @@ def format_table(rows) -> str:
     return "\n".join(lines)
 
 
+def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
+    """Comma-separated grid sizes, each at least 3; ValueError naming ``flag`` otherwise."""
+    try:
+        sizes = [int(s) for s in str(text).split(",") if s.strip()]
+    except ValueError:
+        raise ValueError(f"{flag} must be comma-separated integers, got {text!r}") from None
+    if (not sizes and not allow_empty) or (sizes and min(sizes) < 3):
+        raise ValueError(f"{flag} needs grid sizes of at least 3, got {text!r}")
+    return sizes
+
+
 def _parse(args):
     backends = {"fd": ["fd"], "fe": ["fe"], "all": ["fd", "fe"]}.get(args.backend)
     if backends is None:
         raise ValueError(f"unknown backend {args.backend!r}; choose fd, fe or all")
-    try:
-        sizes = [int(s) for s in str(args.sizes).split(",") if s.strip()]
-    except ValueError:
-        raise ValueError(f"--sizes must be comma-separated integers, got {args.sizes!r}") from None
-    if not sizes or min(sizes) < 3:
-        raise ValueError(f"--sizes needs grid sizes of at least 3, got {args.sizes!r}")
+    sizes = _sizes(args.sizes, "--sizes")
     try:
         steps = int(args.steps)
     except ValueError:
@@ -172,15 +180,8 @@ def execute(args) -> int:
     from .report import writable_folder
 
     backends, sizes, steps = _parse(args)
+    vsizes = _sizes(args.variational_sizes, "--variational-sizes", allow_empty=True)
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
-    if "fe" in backends:
-        try:
-            from femodel import FEModel  # noqa: F401
-        except ImportError as err:
-            if backends == ["fe"]:
-                raise ValueError(f"the finite-element backend is not available (femodel.FEModel: {err})") from None
-            print(f"skipping fe: femodel.FEModel is not available ({err})")
-            backends = ["fd"]
     rows = []
     for backend in backends:
         for n in sizes:
@@ -193,4 +194,55 @@ def execute(args) -> int:
         for r in rows:
             writer.writerow(list(asdict(r).values()) + [f"{r.ratio:.4f}", f"{r.same_ratio:.4f}"])
     print(f"wrote {out / 'bench.csv'}")
+    if vsizes:
+        vrows = [bench_variational(b, n, steps) for b in backends for n in vsizes]
+        print(format_variational(vrows))
+        with (out / "bench_variational.csv").open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(list(asdict(vrows[0]).keys()))
+            writer.writerows(list(asdict(r).values()) for r in vrows)
+        print(f"wrote {out / 'bench_variational.csv'}")
     return 0
+
+
+@dataclass(frozen=True)
+class VariationalRow:
+    """One variational row: implicit-Euler steps solved by Newton; times in seconds."""
+
+    backend: str
+    nodes: str
+    unknowns: int
+    dt: float
+    newton_per_step: float
+    step: float
+
+    @property
+    def per_iteration(self) -> float:
+        return self.step / self.newton_per_step
+
+
+def bench_variational(backend: str, n: int, steps: int) -> VariationalRow:
+    """Time ``steps`` implicit-Euler steps of the hanging scene under the variational model (xi = 1e-3)."""
+    from .simulate import make_model
+
+    cfg = scenes.config("hanging", nodes=(n, n), xi=1e-3, force_model="variational")
+    model = make_model(scenes.build(cfg), backend)
+    dt = 5e-3
+    stepper = TimeStepper(model, dt)
+    state = stepper.step(stepper.start(model.initial_state()))  # warm-up
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        state = stepper.step(state)
+    wall = (time.perf_counter() - t0) / steps
+    newton = float(np.mean([r.iterations for r in stepper.newton_reports[1:]]))
+    return VariationalRow(backend, f"{n}x{n}", 3 * model.ndof, dt, newton, wall)
+
+
+def format_variational(rows) -> str:
+    """A markdown table of variational rows (times in ms)."""
+    lines = ["| backend | grid | unknowns | dt s | Newton iterations / step | step ms | ms / iteration |",
+             "|" + "---|" * 7]
+    for r in rows:
+        lines.append(f"| {r.backend} | {r.nodes} | {r.unknowns} | {r.dt:g} | {r.newton_per_step:.2f} | "
+                     f"{1e3 * r.step:.1f} | {1e3 * r.per_iteration:.1f} |")
+    return "\n".join(lines)
