@@ -140,9 +140,7 @@ class _ReducedSystem:
         )
 
     def data(self, K) -> np.ndarray:
-        if K.indptr is not self.K_pattern[0] and not (
-            np.array_equal(K.indptr, self.K_pattern[0]) and np.array_equal(K.indices, self.K_pattern[1])
-        ):
+        if not (np.array_equal(K.indptr, self.K_pattern[0]) and np.array_equal(K.indices, self.K_pattern[1])):
             raise ValueError("the backend changed the sparsity pattern of K between steps")
         A = self.base.copy()
         A[self.idxK] += K.data
