@@ -23,7 +23,11 @@ scheme. :func:`equilibrium` minimises ``E(x) - F . x`` by the same machinery.
 
 The Newton matrix is the exact Hessian; when it gives no descent direction (an
 indefinite Hessian, e.g. under compression) the step falls back to
-Gauss-Newton and then adds a Levenberg-Marquardt shift until it does.
+Gauss-Newton and then adds a Levenberg-Marquardt shift until it does. Each
+Newton step moves no node by more than :data:`MAX_STEP` of the sheet's
+diagonal (a trust region of fixed radius): without that cap a soft strip
+(eta = xi = 1) curling from flat jumped into twisted states, and which ones
+depended on round-off.
 """
 
 from __future__ import annotations
@@ -35,7 +39,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["ConvergenceError", "NewtonReport", "ImplicitIntegrator", "equilibrium"]
+__all__ = ["ConvergenceError", "NewtonReport", "ImplicitIntegrator", "equilibrium", "MAX_STEP"]
+
+#: largest move of any degree of freedom in one Newton step, as a fraction of the sheet's diagonal
+MAX_STEP = 0.05
 
 log = logging.getLogger(__name__)
 
@@ -71,8 +78,11 @@ def _fixed_flat(model) -> np.ndarray:
     return np.concatenate([a * n + np.asarray(f, dtype=np.int64) for a, f in enumerate(model.fixed_dofs())])
 
 
-def _newton(phi, grad, hess, x, free, *, rtol, atol, max_iter, label):
-    """Minimise phi over x[free] (x[~free] held) from x; returns (x, NewtonReport)."""
+def _newton(phi, grad, hess, x, free, *, rtol, atol, max_iter, label, max_step=np.inf):
+    """Minimise phi over x[free] (x[~free] held) from x; returns (x, NewtonReport).
+
+    No step moves a degree of freedom by more than ``max_step``.
+    """
     report = NewtonReport()
     g = grad(x)[free]
     r0 = np.max(np.abs(g)) if g.size else 0.0
@@ -103,6 +113,9 @@ def _newton(phi, grad, hess, x, free, *, rtol, atol, max_iter, label):
                 break
         if d is None:
             d = -g
+        longest = np.max(np.abs(d))
+        if longest > max_step:
+            d = d * (max_step / longest)
         slope = g @ d
         step = 1.0
         for _ in range(40):
@@ -156,6 +169,7 @@ class ImplicitIntegrator:
         free[_fixed_flat(model)] = False
         self.free = free
         self.reports: list[NewtonReport] = []
+        self.max_step = MAX_STEP * float(np.hypot(*model.scene.sheet.size))
         self._acc = None  # (step, t, a_n) for Newmark
 
     def _energy(self, x):
@@ -218,7 +232,8 @@ class ImplicitIntegrator:
         x[held] = _flat(model.prescribed(X0, t1))[held]
         try:
             x, report = _newton(phi, grad, hess, x, self.free, rtol=self.rtol, atol=self.atol,
-                                max_iter=self.max_iter, label=f"{self.scheme} step {state.step + 1}")
+                                max_iter=self.max_iter, label=f"{self.scheme} step {state.step + 1}",
+                                max_step=self.max_step)
         except ConvergenceError as err:
             raise DivergenceError(f"diverged at step {state.step + 1} (t = {t1:.6g} s): {err}", state) from err
         self.reports.append(report)
@@ -286,7 +301,7 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
 
         scale = max(np.max(np.abs(F[integ.free])) if F.size else 0.0, np.max(np.abs(grad(x)[integ.free])))
         x, report = _newton(phi, grad, integ._hess, x, integ.free, rtol=0.0, atol=tol * scale,
-                            max_iter=max_iter, label="equilibrium")
+                            max_iter=max_iter, label="equilibrium", max_step=integ.max_step)
         history += report.residuals
         if not report.converged:
             raise ConvergenceError(

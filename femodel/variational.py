@@ -71,6 +71,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from deformable import tensors
+
 from .assembly import FixedPattern
 
 __all__ = ["DiscreteEnergy", "HESSIANS", "SLOTS"]
@@ -80,14 +82,6 @@ HESSIANS = ("gauss-newton", "newton")
 SLOTS = ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
 #: elements per block in the Hessian assembly (small enough that the point and element Hessians stay in cache: 8x faster than one block of 1024)
 _BLOCK = 64
-
-
-def _skew(a: np.ndarray) -> np.ndarray:
-    """Cross-product matrices [a]x, (..., 3) -> (..., 3, 3), ``[a]x b = a x b``."""
-    z = np.zeros(a.shape[:-1])
-    return np.stack([np.stack([z, -a[..., 2], a[..., 1]], -1),
-                     np.stack([a[..., 2], z, -a[..., 0]], -1),
-                     np.stack([-a[..., 1], a[..., 0], z], -1)], -2)
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -230,20 +224,9 @@ class DiscreteEnergy:
             n, nc = frame
             g11, g12, g22 = self._bend_slot(g)
             V = g11[..., None] * v[..., 2, :] + g12[..., None] * v[..., 3, :] + g22[..., None] * v[..., 4, :]
-            Vn = _dot(V, n)
-            W = (V - Vn[..., None] * n) / nc[..., None]
-            P = np.eye(3) - n[..., :, None] * n[..., None, :]
-            inv = (1.0 / nc)[..., None, None]
-            Hf = -(W[..., :, None] * n[..., None, :] + n[..., :, None] * W[..., None, :]) * inv \
-                - Vn[..., None, None] * P * inv**2
-            C = np.concatenate([-_skew(t2), _skew(t1)], axis=-1)  # (Ec, nq, 3, 6)
-            Htt = np.swapaxes(C, -1, -2) @ (Hf @ C)
-            Wx = _skew(W)
-            Htt[..., 0:3, 3:6] -= Wx
-            Htt[..., 3:6, 0:3] += Wx
+            Htt, Q = tensors.normal_hessian(t1, t2, V)
             H = H.reshape(Ec, nq, 15, 15)
             H[..., :6, :6] += Htt
-            Q = (P @ C) * inv  # (Ec, nq, 3, 6)
             for slot, gk in ((2, g11), (3, g12), (4, g22)):
                 block = gk[..., None, None] * Q
                 H[..., 3 * slot:3 * slot + 3, :6] += block
