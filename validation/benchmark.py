@@ -37,6 +37,8 @@ import scipy.sparse.linalg as spla
 from deformable import scenes
 from deformable.stepper import SPLU_OPTIONS, TimeStepper
 
+from .backends import make_model
+
 __all__ = ["configure", "execute", "BenchRow", "bench_one", "format_table"]
 
 log = logging.getLogger(__name__)
@@ -81,8 +83,6 @@ class BenchRow:
 
 
 def _model(backend: str, n: int):
-    from .simulate import make_model
-
     # xi > 0 so that K's bending stencil carries values (its pattern always has it)
     cfg = scenes.config("hanging", nodes=(n, n), xi=1e-6)
     # a step that keeps the scene on the stable side of the stretching bound at every size
@@ -223,8 +223,6 @@ class VariationalRow:
 
 def bench_variational(backend: str, n: int, steps: int) -> VariationalRow:
     """Time ``steps`` implicit-Euler steps of the hanging scene under the variational model (xi = 1e-3)."""
-    from .simulate import make_model
-
     cfg = scenes.config("hanging", nodes=(n, n), xi=1e-3, force_model="variational")
     model = make_model(scenes.build(cfg), backend)
     dt = 5e-3

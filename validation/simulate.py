@@ -41,14 +41,14 @@ from deformable.scene import FORCE_MODELS
 from deformable.stepper import State, TimeStepper
 from deformable.trackers import EnergyMonitor
 
+from .backends import BACKENDS, make_model
 from .output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
 from .render import FIELDS, render_series
 from .report import writable_folder
 
-__all__ = ["configure", "execute", "make_model", "parse_grid", "Run", "prepare", "simulate"]
+__all__ = ["configure", "execute", "parse_grid", "Run", "prepare", "simulate"]
 
 log = logging.getLogger(__name__)
-BACKENDS = ("fd", "fe")
 
 
 class _Error(ValueError):
@@ -99,21 +99,6 @@ def _positive(name: str, text, kind=float):
     if not (math.isfinite(value) and value > 0):
         raise _Error(f"--{name} must be positive, got {text!r}")
     return value
-
-
-def make_model(scene, backend: str):
-    """The backend model of a scene: ``fdmodel.FDModel`` or ``femodel.FEModel`` (imported lazily)."""
-    if backend == "fd":
-        from fdmodel import FDModel
-
-        return FDModel(scene)
-    if backend == "fe":
-        try:
-            from femodel import FEModel
-        except ImportError as err:
-            raise _Error(f"the finite-element backend is not available (femodel.FEModel: {err})") from None
-        return FEModel(scene)
-    raise _Error(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
 
 
 class Run:

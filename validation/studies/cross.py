@@ -52,10 +52,10 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
-from fdmodel import FDModel
 from femodel.model import FEModel
+from validation.backends import make_model
 from validation.orders import fit_order
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, register
 
 COARSEST = 5
 COMMON = 5  # common points: COMMON x COMMON nodes, shared by every grid
@@ -97,7 +97,7 @@ class Case:
 def run_case(case: Case) -> dict:
     """Positions, G and B at the coarsest grid's nodes at the sample times: arrays (T, P, ...)."""
     sc = scene(case.scene, case.nodes)
-    model = FDModel(sc) if case.backend == "fd" else FEModel(sc)
+    model = make_model(sc, case.backend)
     L1, L2 = sc.sheet.size
     a1, a2 = np.meshgrid(np.linspace(0.0, L1, COMMON), np.linspace(0.0, L2, COMMON), indexing="ij")
     pts = np.stack([a1.ravel(), a2.ravel()], axis=1)

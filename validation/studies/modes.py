@@ -40,8 +40,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
+from validation.backends import make_model
 from validation.orders import fit_order, pairwise_orders
 from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
 
@@ -91,13 +90,9 @@ def continuum(a: float, b: float, count: int = MODES) -> np.ndarray:
     return np.sort(np.sqrt(w2.ravel()))[:count]
 
 
-def _model(backend: str, sc):
-    return FDModel(sc) if backend == "fd" else FEModel(sc)
-
-
 def reduced(backend: str, kind: str, nodes: int):
     """K(r0) and M on the free z degrees of freedom (scipy sparse)."""
-    model = _model(backend, scene(kind, nodes))
+    model = make_model(scene(kind, nodes), backend)
     free = np.setdiff1d(np.arange(model.ndof), model.fixed_dofs()[2])
     K = model.stiffness(model.initial_state()).tocsr()[free][:, free]
     M = model.mass().tocsr()[free][:, free]

@@ -87,6 +87,7 @@ import deformable as dm
 from deformable import scenes
 from fdmodel import FDModel
 from femodel import FEModel
+from validation.backends import BACKENDS, make_model
 from validation.study import Figure, Levels, StudyResult, Table, register
 
 __all__ = ["Case", "run_case", "study", "SETTINGS", "spectrum", "predictions", "trajectory_difference",
@@ -112,7 +113,6 @@ SETTINGS = {
             sens_xis=(0.0, 1e-9, 1e-8, 1e-7, 3e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3)),
 }
 MAP_SCENES = ("curtain", "flag")
-BACKENDS = ("fd", "fe")
 #: claim 1: the factor of the scenes' scaling (section 3.1) and the base xi (so xi is scaled too)
 SCALE, XI_BASE, TIME_SCALE = 20.0, 1e-6, 3.0
 TRIPLES = ((SCALE, SCALE, SCALE), (SCALE, 1.25 * SCALE, SCALE), (SCALE, 1.0, 1.0), (1.0, SCALE, 1.0),
@@ -158,10 +158,6 @@ class Case:
         dt = self.dt or scenes.config(self.scene or "hanging").dt
         steps = self.t_end / dt if self.t_end else 1.0
         return steps * (2.0 if self.backend == "fe" else 1.0) * (self.nodes / 12.0) ** 2
-
-
-def make_model(scene: dm.Scene, backend: str):
-    return FDModel(scene) if backend == "fd" else FEModel(scene)
 
 
 def _quiet():
@@ -802,7 +798,7 @@ def _claim_stability(res, R, s, claims):
                       ", ".join(f"{eta:g}: {c}" for eta, c in zero if eta >= 2 * eta_c[1.0]) or "no such eta",
                       all(c != "bounded" for c in high))
             # (dt, h) map
-            pts, below_ok, above_ok, lines = [], [], [], []
+            pts, below_ok, above_ok = [], [], []
             for m in all_grids[b]:
                 for dt in s["dts"]:
                     r = R[("dt", sc, b, m, dt)]

@@ -29,8 +29,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
+from validation.backends import make_model
 from validation.orders import fit_order, pairwise_orders
 from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
 
@@ -63,7 +62,7 @@ class Case:
 def solve(backend: str, nodes: int):
     """The static transverse deflection: (model, X) with X (ndof, 3), z column solved."""
     sc = scene(nodes)
-    model = FDModel(sc) if backend == "fd" else FEModel(sc)
+    model = make_model(sc, backend)
     X = model.initial_state()
     free = np.setdiff1d(np.arange(model.ndof), model.fixed_dofs()[2])
     K = model.stiffness(X).tocsc()[free][:, free]

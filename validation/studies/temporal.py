@@ -18,8 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
+from validation.backends import make_model
 from validation.orders import fit_order, pairwise_orders
 from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, order_check, register
 
@@ -43,7 +42,7 @@ class Case:
 
 def run_case(case: Case) -> dict:
     sc = scene(NODES[case.backend])
-    model = FDModel(sc) if case.backend == "fd" else FEModel(sc)
+    model = make_model(sc, case.backend)
     r = dm.TimeStepper(model, dt=case.dt).run(model.initial_state(), t_end=T_END)
     return {"status": r.status, "message": r.message, "grid": model.grid(r.state.X)}
 

@@ -48,8 +48,7 @@ from scipy.integrate import solve_bvp
 
 import deformable as dm
 from deformable import scenes
-from fdmodel import FDModel
-from femodel import FEModel
+from validation.backends import make_model
 from validation.orders import fit_order, pairwise_orders
 from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
 
@@ -108,13 +107,13 @@ class Case:
 
 def make(scene: dm.Scene, backend: str):
     """FD with the control-area weighting (the trapezoidal energy), or FE."""
-    return FDModel(scene, weighting="control-area") if backend == "fd" else FEModel(scene)
+    return make_model(scene, backend, **({"weighting": "control-area"} if backend == "fd" else {}))
 
 
 def run_case(case: Case) -> dict:
     if case.kind == "scene":
         cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), xi=SCENE_XI, force_model=case.force_model)
-        model = FDModel(scenes.build(cfg)) if case.backend == "fd" else FEModel(scenes.build(cfg))
+        model = make_model(scenes.build(cfg), case.backend)
         dt = case.dt if case.force_model == "variational" else min(cfg.dt, 0.5 * model.step_factor * cfg.bound())
         stepper = dm.TimeStepper(model, dt=dt)
         stepper_log = logging.getLogger("deformable.stepper")
@@ -135,7 +134,7 @@ def run_case(case: Case) -> dict:
         return {"h": model.h1, "tip": tip.tolist(), "error": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
                 "iterations": len(history) - 1}
     if case.kind == "relax":
-        model = FDModel(strip_scene(case.nodes, case.kappa, gamma=8.0), weighting="control-area")
+        model = make(strip_scene(case.nodes, case.kappa, gamma=8.0), "fd")
         Xeq, _ = dm.equilibrium(model, model.initial_state())
         stepper = dm.TimeStepper(model, dt=case.dt)
         result = stepper.run(model.initial_state(), t_end=RELAX_T)
@@ -156,7 +155,7 @@ def run_case(case: Case) -> dict:
         return {"h": model.h1, "u": float((p["L"] - tip[0]) / p["L"]), "w": float(-tip[2] / p["L"]),
                 "iterations": len(history) - 1}
     # tpbf87: the paper's force on the same strip, from flat plus a 1e-6 bump, damped
-    model = FDModel(strip_scene(case.nodes, case.kappa, force_model="tpbf87", gamma=8.0), weighting="control-area")
+    model = make(strip_scene(case.nodes, case.kappa, force_model="tpbf87", gamma=8.0), "fd")
     X0 = model.initial_state()
     X0[:, 2] += 1e-6 * np.sin(np.pi * model.a1 / STRIP["L"]).ravel()
     stepper_log = logging.getLogger("deformable.stepper")
