@@ -128,8 +128,6 @@ class XDMFWriter(Tracker):
 
     # -- XML -------------------------------------------------------------------
     def _data_item(self, parent, array: np.ndarray):
-        import h5py  # noqa: F401  (checked in initialize)
-
         name = f"data{self._counter}"
         self._counter += 1
         self._h5.create_dataset(name, data=array)
