@@ -314,7 +314,8 @@ class FDModel:
 
     def kinetic_energy(self, V: np.ndarray) -> float:
         """Kinetic energy h1 h2 V^T M V / 2 (J): the FD rows are per unit area."""
-        return 0.5 * self.h1 * self.h2 * float(np.sum(V * (self.mass() @ V)))
+        nodal = (self.mu * self.area_weight).ravel()  # the diagonal of M
+        return 0.5 * self.measure * float(np.sum(nodal[:, None] * V * V))
 
     # -- constraints ----------------------------------------------------------
     def _build_constraints(self):
