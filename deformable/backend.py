@@ -1,9 +1,20 @@
-r"""The protocol both discretisations satisfy (DESIGN.md, "The library contract").
+r"""The contract both discretisations satisfy (docs/design.md, "The backend contract").
 
 A backend turns a :class:`~deformable.scene.Scene` into the semi-discrete
-system (21), ``M R'' + C R' + K(r) R = F``, over ``ndof`` degrees of freedom
-per coordinate; the state X is an ``(ndof, 3)`` array (x, y, z columns share
-one scalar discretisation). The TimeStepper knows nothing else about it.
+system (21), ``M R'' + C R' + e(R) = F``, over ``ndof`` degrees of freedom
+per coordinate; a state X is an ``(ndof, 3)`` array (x, y, z columns share
+one scalar discretisation). Everything the time stepper, the output writer,
+the scenes and the validation harness use of a backend is here; nothing
+above the backends reads anything else of them.
+
+One unit convention for both backends: every row is *integrated* over the
+area a degree of freedom stands for. M and C are in kg and kg/s, F and the
+internal force in N, K in N/m, the energy (13) in J and its gradient in N.
+(The FD rows of the paper are per unit area; FD multiplies them by the cell
+area h1 h2, so its ``stiffness(X) / (h1 h2)`` is the paper's K(r) of eq. (20).)
+
+Coordinate-blocked vectors (the Hessians, the implicit schemes): index
+``a * ndof + k`` for coordinate a of degree of freedom k.
 """
 
 from __future__ import annotations
@@ -42,33 +53,61 @@ class Energy:
 
 @runtime_checkable
 class Backend(Protocol):
-    """What TimeStepper, the scenes and the validation harness need of a discretisation."""
+    """What a discretisation offers: geometry, the system (21), the energy (13) and its derivatives.
+
+    Attributes
+    ----------
+    scene : Scene
+    ndof : int
+        Degrees of freedom per coordinate.
+    linear : bool
+        True when K does not depend on X (the "frozen" force model).
+    spacing : (h1, h2)
+        The grid spacings (scene units): node spacing (FD), element sides (FE).
+    value_dofs : int array (M N,)
+        The rows of X that hold the node positions, node (m, n) at m N + n:
+        ``grid(X) == X[value_dofs].reshape(M, N, 3)``.
+    points : (a1, a2), two arrays of shape (*pts)
+        The parameter coordinates of the backend's own points, where
+        :meth:`tensors` evaluates G and B (FD: the nodes, (M, N); FE: the
+        Gauss points, (elements, points per element)).
+    """
 
     scene: Scene
     ndof: int
-    linear: bool  # True when K does not depend on X (the "frozen" model)
-    measure: float  # area each row of M, C and F stands for (FD: h1 h2, pointwise rows; FE: 1)
+    linear: bool
+    spacing: tuple[float, float]
+    value_dofs: np.ndarray
+    points: tuple[np.ndarray, np.ndarray]
 
+    # -- geometry
     def initial_state(self) -> np.ndarray: ...
     def discretize(self, surface) -> np.ndarray: ...
+    def grid(self, X: np.ndarray) -> np.ndarray: ...
+    def tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
     def sample(self, X: np.ndarray, a: np.ndarray) -> Sample: ...
+
+    # -- the semi-discrete system (21), integrated rows
     def stiffness(self, X: np.ndarray) -> sp.csr_matrix: ...
     def mass(self) -> sp.csr_matrix: ...
     def damping(self) -> sp.csr_matrix: ...
+    def load(self, X: np.ndarray, t: float) -> np.ndarray: ...
+    def internal_force(self, X: np.ndarray) -> np.ndarray: ...
     def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
     def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray: ...
-    def load(self, X: np.ndarray, t: float) -> np.ndarray: ...
+    def stable_step(self) -> float: ...
+
+    # -- the energy (13)
     def energy(self, X: np.ndarray) -> Energy: ...
     def kinetic_energy(self, V: np.ndarray) -> float: ...
-
-
-class EnergyBackend(Backend, Protocol):
-    """A backend whose internal force is the gradient of an energy ("variational", "frozen").
-
-    The implicit schemes and :func:`deformable.equilibrium` need these; vectors
-    of the Hessian are coordinate-blocked (index ``a * ndof + k``).
-    """
-
     def energy_gradient(self, X: np.ndarray) -> np.ndarray: ...
     def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix: ...
-    def grid(self, X: np.ndarray) -> np.ndarray: ...
+
+
+#: the former name of the contract's energy part; every backend has it now
+EnergyBackend = Backend
+
+
+def kinetic_energy(M: sp.spmatrix, V: np.ndarray) -> float:
+    """Kinetic energy ``V^T M V / 2`` (J) of velocities V (ndof, 3) with the (integrated) mass M."""
+    return 0.5 * float(np.sum(V * (M @ V)))

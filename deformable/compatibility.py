@@ -252,7 +252,7 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
 
 
 def _second(surface, a1, a2, step=1e-5):
-    """r_11, r_22 of a surface: exact when it has them (validation.surfaces), central differences of r_i else."""
+    """r_11, r_22 of a surface: exact when it has them (validation.harness.surfaces), central differences of r_i else."""
     if callable(getattr(surface, "r11", None)) and callable(getattr(surface, "r22", None)):
         return surface.r11(a1, a2), surface.r22(a1, a2)
     r11 = (surface.r1(a1 + step, a2) - surface.r1(a1 - step, a2)) / (2 * step)

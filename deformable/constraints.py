@@ -18,48 +18,49 @@ next one in; FE: values and all derivatives at the edge).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
-__all__ = ["Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES"]
+from .sheet import CORNERS, EDGES
 
-EDGES = {"left", "right", "bottom", "top"}
-CORNERS = {"top-left", "top-right", "bottom-left", "bottom-right"}
+__all__ = ["Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES", "HeldDofs", "hold", "edges_named"]
+
 AXES = {"x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
 
 
-def _named(name: str, M: int, N: int) -> np.ndarray:
-    mask = np.zeros((M, N), bool)
-    if name == "left":
-        mask[0, :] = True
-    elif name == "right":
-        mask[-1, :] = True
-    elif name == "bottom":
-        mask[:, 0] = True
-    elif name == "top":
-        mask[:, -1] = True
-    elif name in CORNERS:
-        vertical, horizontal = name.split("-")
-        mask[0 if horizontal == "left" else -1, -1 if vertical == "top" else 0] = True
-    else:
-        raise ValueError(f"unknown edge or corner {name!r}; expected one of {sorted(EDGES | CORNERS)}")
+def _named(name: str, sheet) -> np.ndarray:
+    if name in EDGES:
+        return sheet.edge_nodes(name)
+    if name not in CORNERS:
+        raise ValueError(f"unknown edge or corner {name!r}; expected one of {sorted(set(EDGES) | set(CORNERS))}")
+    mask = np.zeros(sheet.nodes, bool)
+    mask[CORNERS[name]] = True
     return mask
+
+
+def edges_named(where) -> list[str]:
+    """The edge names in a selection (a name or a list of names); [] for any other selection."""
+    if isinstance(where, str):
+        return [where] if where in EDGES else []
+    if isinstance(where, (list, tuple)) and all(isinstance(w, str) for w in where):
+        return [w for w in where if w in EDGES]
+    return []
 
 
 def select(where, sheet) -> np.ndarray:
     """Boolean (M, N) mask of the nodes that ``where`` names; ValueError if it names none."""
     M, N = sheet.nodes
     if isinstance(where, str):
-        mask = _named(where, M, N)
+        mask = _named(where, sheet)
     elif callable(where):
         a1, a2 = sheet.coordinates()
         mask = np.broadcast_to(np.asarray(where(a1, a2), bool), (M, N)).copy()
     elif isinstance(where, (list, tuple)) and where and all(isinstance(w, str) for w in where):
         mask = np.zeros((M, N), bool)
         for w in where:
-            mask |= _named(w, M, N)
+            mask |= _named(w, sheet)
     else:
         idx = np.asarray(where)
         if idx.ndim != 2 or idx.shape[1] != 2 or not np.issubdtype(idx.dtype, np.integer):
@@ -113,3 +114,63 @@ class Clamp:
     @property
     def edges(self) -> list[str]:
         return [self.where] if isinstance(self.where, str) else list(self.where)
+
+
+@dataclass
+class HeldDofs:
+    """The constraints of a scene on one backend's degrees of freedom.
+
+    Attributes
+    ----------
+    fixed : (3,) tuple of int arrays
+        Held degrees of freedom of x, y and z (sorted, unique).
+    motions : list of (int array, callable t -> (3,))
+        Value degrees of freedom translated by a pin's prescribed motion.
+    """
+
+    fixed: tuple
+    motions: list = field(default_factory=list)
+
+    def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray:
+        """X0 (ndof, 3) with the moving pins' value degrees of freedom translated to time t."""
+        X = np.array(X0, dtype=float)
+        for idx, motion in self.motions:
+            X[idx] += np.asarray(motion(t), float)
+        return X
+
+
+def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs: Callable) -> HeldDofs:
+    """Map a scene's Pin, Slide and Clamp to held degrees of freedom, the same way for every backend.
+
+    Parameters
+    ----------
+    scene : Scene
+    ndof : int
+        Degrees of freedom per coordinate.
+    node_dofs : callable (M, N) bool mask -> int array
+        The degrees of freedom that carry the positions of the masked nodes (FD: the nodes; FE: their value dofs).
+    edge_dofs : callable edge name -> int array
+        What else a pin or slide of a whole named edge holds (FE: the derivative along the edge, known once
+        r is known along it; FD: nothing).
+    clamp_dofs : callable edge name -> int array
+        What a Clamp of the edge holds (FD: the edge row and the next one; FE: every dof of the edge nodes).
+    """
+    sheet = scene.sheet
+    fixed = np.zeros((3, ndof), bool)
+    motions = []
+    for c in scene.constraints:
+        if isinstance(c, Clamp):
+            for edge in c.edges:
+                fixed[:, clamp_dofs(edge)] = True
+            continue
+        values = node_dofs(select(c.where, sheet))
+        held = np.concatenate([values] + [edge_dofs(e) for e in edges_named(c.where)])
+        if isinstance(c, Pin):
+            fixed[:, held] = True
+            if c.motion is not None:
+                motions.append((values, c.motion))
+        else:  # Slide: every component but the rail's axis
+            for k in range(3):
+                if k != c.axis:
+                    fixed[k, held] = True
+    return HeldDofs(tuple(np.flatnonzero(f) for f in fixed), motions)

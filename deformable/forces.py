@@ -18,7 +18,7 @@ from typing import Callable
 
 import numpy as np
 
-from .constraints import EDGES
+from .sheet import EDGES
 
 __all__ = ["Gravity", "BodyForce", "EdgeLoad", "PointLoad", "Sinusoidal", "Force"]
 

@@ -1,6 +1,6 @@
 r"""A scene: sheet, material, forces, constraints and the named force model.
 
-Force models (DESIGN.md, "The continuous model"):
+Force models (docs/design.md, "The continuous model"):
 
 - ``"tpbf87"``: the papers' force (14)-(15), ``e = sum_ij -d_i(alpha_ij d_j r)
   + d_ij(beta_ij d_ij r)`` with ``alpha_ij = eta_ij (G_ij - G0_ij)`` and
@@ -8,16 +8,17 @@ Force models (DESIGN.md, "The continuous model"):
   It is *not* the gradient of the energy (13).
 - ``"frozen"``: alpha_ij and beta_ij given directly as material parameters
   (section 3.2); linear, the controlled-continuity spline.
-- ``"variational"``: the exact gradient of the discrete energy (13) (planned).
+- ``"variational"``: the exact gradient of the discrete energy (13).
 """
 
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .compatibility import warn_if_incompatible
 from .constraints import Clamp, Pin, Slide
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad
 from .material import Material
@@ -99,8 +100,6 @@ class Scene:
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
         if self.rest_metric is not None or self.rest_curvature is not None:
             # a rest shape alone is always compatible; overrides may not be (eq. 10)
-            from .compatibility import warn_if_incompatible
-
             warn_if_incompatible(self, stacklevel=4)  # the caller of Scene(...)
 
     def rest_tensors(self, a1, a2, G: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -126,6 +125,4 @@ class Scene:
 
     def with_nodes(self, nodes: tuple[int, int]) -> Scene:
         """The same scene on another node grid (per-node material arrays must be scalars)."""
-        from dataclasses import replace
-
         return replace(self, sheet=self.sheet.with_nodes(nodes))

@@ -44,11 +44,12 @@ to a numerically convenient range while eta, xi fine-tune the shape
 applied to the real-world mu, gamma and applied forces (gravity, being mu g,
 scales with mu by itself).
 
-Stability (DESIGN.md, findings). The tpbf87 step lags alpha_ij, so it is
-only conditionally stable on stretching: dt must stay below about
-``h sqrt(mu / (2 eta G))``. Each scene's default dt keeps a margin of at least
-1.5 below that bound on its default 32 x 32 grid (:func:`stability_bound`),
-and a finer grid needs a proportionally smaller dt (the command line warns).
+Stability (docs/design.md, "Time stepping"). The tpbf87 step lags alpha_ij,
+so it is only conditionally stable on stretching: dt must stay below about
+``h sqrt(mu / (2 eta G))`` on FD (the backend's ``stable_step()``). Each
+scene's default dt keeps a margin of at least 1.4 below the FD bound on its
+default 32 x 32 grid, and a finer grid needs a proportionally smaller dt (the
+command line warns, and picks FE's own, smaller, step).
 Compression makes alpha < 0, a negative stiffness: with xi = 0 (and under
 tpbf87 even with xi > 0, whose linear bending stiffness about a flat sheet is
 zero) nothing resists grid-scale crumpling, and a compressed region collapses
@@ -79,67 +80,21 @@ from .constraints import Pin, Slide
 from .forces import BodyForce, Gravity
 from .material import Material
 from .scene import FORCE_MODELS, Scene
-from .sheet import Sheet
+from .sheet import Plane, Sheet
 
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
     "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml",
-    "stability_bound",
 ]
 
 log = logging.getLogger(__name__)
 
 
 # -- geometry ------------------------------------------------------------------
-@dataclass(frozen=True)
-class Plane:
-    """The plane ``r(a1, a2) = origin + a1 e1 + a2 e2`` with exact derivatives (a Surface).
-
-    Parameters
-    ----------
-    origin, e1, e2 : 3-vectors (m; e1, e2 dimensionless unit vectors)
-    """
-
-    origin: tuple = (0.0, 0.0, 0.0)
-    e1: tuple = (1.0, 0.0, 0.0)
-    e2: tuple = (0.0, 1.0, 0.0)
-
-    def _shape(self, a1, a2):
-        a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
-        return a1, a2
-
-    def r(self, a1, a2):
-        a1, a2 = self._shape(a1, a2)
-        return np.asarray(self.origin) + a1[..., None] * np.asarray(self.e1) + a2[..., None] * np.asarray(self.e2)
-
-    def r1(self, a1, a2):
-        a1, _ = self._shape(a1, a2)
-        return np.broadcast_to(np.asarray(self.e1, float), a1.shape + (3,)).copy()
-
-    def r2(self, a1, a2):
-        a1, _ = self._shape(a1, a2)
-        return np.broadcast_to(np.asarray(self.e2, float), a1.shape + (3,)).copy()
-
-    def r12(self, a1, a2):
-        a1, _ = self._shape(a1, a2)
-        return np.zeros(a1.shape + (3,))
-
-
 #: the vertical x-z plane: a1 along x, a2 up (the curtain and the flag hang in it)
 VERTICAL = Plane(e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 #: the horizontal x-y plane (the default rest shape)
 HORIZONTAL = Plane()
-
-
-def stability_bound(h: float, mu: float, eta: float, G: float = 1.0) -> float:
-    """The tpbf87 step's stretching bound ``h sqrt(mu / (2 eta G))`` (s); inf when eta = 0.
-
-    Parameters
-    ----------
-    h : grid spacing (m); mu : mass density (kg/m^2); eta : stretching weight (N/m);
-    G : metric component along the spacing (1 at rest).
-    """
-    return math.inf if eta <= 0 else h * math.sqrt(mu / (2.0 * eta * G))
 
 
 # -- configs -------------------------------------------------------------------
@@ -238,11 +193,6 @@ class SceneConfig:
 
     def material(self) -> Material:
         return Material(mu=self.mu, gamma=self.gamma, eta=self.eta, xi=self.xi)
-
-    def bound(self) -> float:
-        """The stretching stability bound of the default dt on this grid (s)."""
-        (L1, L2), (M, N) = self.size, self.nodes
-        return stability_bound(min(L1 / (M - 1), L2 / (N - 1)), self.mu, self.eta)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -446,7 +396,7 @@ def paper(nodes=(32, 32), **fields_) -> Scene:
     """Fig. 6: the silky curtain with curvature resistance xi = 3e-6 N m.
 
     Under the tpbf87 force model a flat sheet with B0 = 0 has no linear bending
-    stiffness (DESIGN.md, findings), so xi acts only at second order in the
+    stiffness (docs/design.md, "Three readings of the model"), so xi acts only at second order in the
     fold amplitude; the paper saw the same insensitivity for xi up to 1e-3.
     Same dt and stability margins as ``curtain-silky``.
     """

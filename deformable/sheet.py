@@ -9,7 +9,15 @@ coincide, so a constraint or a sample names the same points in both.
 A *surface* is anything with callables ``r, r1, r2, r12: (a1, a2) -> (..., 3)``
 (position and the derivatives a bicubic Hermite interpolation needs). A plain
 callable ``(a1, a2) -> (..., 3)`` is accepted wherever a surface is, and is
-differentiated numerically (central differences, error about 1e-10).
+differentiated numerically (central differences: r_1, r_2 to about 1e-10, r_12 to about 1e-7).
+
+The grid's named places live here, once, for every caller: the four edges
+(:data:`EDGES`: "left" a1 = 0, "right" a1 = L1, "bottom" a2 = 0, "top"
+a2 = L2) and corners (:data:`CORNERS`), with :meth:`Sheet.edge` /
+:meth:`Sheet.corner` giving the node indices; and the cell of a parameter
+point with its bilinear weights (:meth:`Sheet.locate`, :func:`bilinear`),
+which FD sampling, FD point loads, FE point location and the FE
+interpolation of node fields to Gauss points all use.
 """
 
 from __future__ import annotations
@@ -19,7 +27,59 @@ from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Sheet", "Surface", "CallableSurface", "FlatSurface", "as_surface"]
+__all__ = ["Sheet", "Surface", "CallableSurface", "Plane", "FlatSurface", "as_surface", "Edge", "EDGES", "CORNERS",
+           "bilinear", "bilinear_weights", "CELL_CORNERS"]
+
+
+@dataclass(frozen=True)
+class Edge:
+    """An edge of the parameter rectangle: the nodes whose index along ``axis`` is ``side``.
+
+    ``axis`` 0 (index m, along a1) for "left"/"right", 1 (index n) for
+    "bottom"/"top"; ``side`` 0 or -1; the edge runs along the other axis,
+    :attr:`along`.
+    """
+
+    name: str
+    axis: int
+    side: int
+
+    @property
+    def along(self) -> int:
+        """The parameter axis the edge runs along (0: a1, 1: a2)."""
+        return 1 - self.axis
+
+    @property
+    def index(self) -> tuple:
+        """Index of the edge's nodes into an (M, N) array: a 1-D line of nodes."""
+        return (self.side, slice(None)) if self.axis == 0 else (slice(None), self.side)
+
+    def rows(self, depth: int = 1) -> tuple[slice, slice]:
+        """Index of the ``depth`` node rows at this edge into an (M, N) array."""
+        inner = slice(0, depth) if self.side == 0 else slice(-depth, None)
+        return (inner, slice(None)) if self.axis == 0 else (slice(None), inner)
+
+
+#: the four edges by name: "left" a1 = 0, "right" a1 = L1, "bottom" a2 = 0, "top" a2 = L2
+EDGES = {e.name: e for e in (Edge("left", 0, 0), Edge("right", 0, -1), Edge("bottom", 1, 0), Edge("top", 1, -1))}
+#: the four corners by name, as (index m, index n) with -1 for the last node
+CORNERS = {"bottom-left": (0, 0), "bottom-right": (-1, 0), "top-left": (0, -1), "top-right": (-1, -1)}
+#: node offsets (di, dj) of a cell's corners, in the order of :func:`bilinear_weights`
+CELL_CORNERS = ((0, 0), (1, 0), (0, 1), (1, 1))
+
+
+def bilinear_weights(s, t) -> tuple:
+    """Weights of the cell corners :data:`CELL_CORNERS` at reference coordinates (s, t) in [0, 1]^2."""
+    return ((1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t)
+
+
+def bilinear(field: np.ndarray, i, j, s, t) -> np.ndarray:
+    """Bilinear interpolation of a node field (..., M, N) in cells (i, j) at reference coordinates (s, t).
+
+    i, j, s, t broadcast against each other (shape P); the result is (..., P).
+    """
+    field = np.asarray(field, float)
+    return sum(w * field[..., i + di, j + dj] for w, (di, dj) in zip(bilinear_weights(s, t), CELL_CORNERS))
 
 
 @runtime_checkable
@@ -65,30 +125,50 @@ class CallableSurface:
         return (self.r1(a1, np.add(a2, e)) - self.r1(a1, np.subtract(a2, e))) / (2 * e)
 
 
-class FlatSurface:
-    """The plane r = (a1, a2, 0): the default rest and initial shape."""
+@dataclass(frozen=True)
+class Plane:
+    """The plane ``r(a1, a2) = origin + a1 e1 + a2 e2`` with exact derivatives (a Surface).
+
+    ``Plane()`` is r = (a1, a2, 0), the default rest and initial shape.
+
+    Parameters
+    ----------
+    origin, e1, e2 : 3-vectors (scene units; e1, e2 the directions of a1 and a2)
+    """
+
+    origin: tuple = (0.0, 0.0, 0.0)
+    e1: tuple = (1.0, 0.0, 0.0)
+    e2: tuple = (0.0, 1.0, 0.0)
+
+    @staticmethod
+    def _shape(a1, a2):
+        return np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
 
     def r(self, a1, a2):
-        a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
-        return np.stack([a1, a2, np.zeros_like(a1)], axis=-1)
+        a1, a2 = self._shape(a1, a2)
+        return np.asarray(self.origin) + a1[..., None] * np.asarray(self.e1) + a2[..., None] * np.asarray(self.e2)
 
     def r1(self, a1, a2):
-        a1, _ = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
-        return np.broadcast_to([1.0, 0.0, 0.0], a1.shape + (3,)).copy()
+        a1, _ = self._shape(a1, a2)
+        return np.broadcast_to(np.asarray(self.e1, float), a1.shape + (3,)).copy()
 
     def r2(self, a1, a2):
-        a1, _ = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
-        return np.broadcast_to([0.0, 1.0, 0.0], a1.shape + (3,)).copy()
+        a1, _ = self._shape(a1, a2)
+        return np.broadcast_to(np.asarray(self.e2, float), a1.shape + (3,)).copy()
 
     def r12(self, a1, a2):
-        a1, _ = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
+        a1, _ = self._shape(a1, a2)
         return np.zeros(a1.shape + (3,))
+
+
+#: the former name of the flat default surface
+FlatSurface = Plane
 
 
 def as_surface(obj) -> Surface:
     """``obj`` as a Surface: None is the plane, a callable gets numerical derivatives."""
     if obj is None:
-        return FlatSurface()
+        return Plane()
     if all(callable(getattr(obj, k, None)) for k in ("r", "r1", "r2", "r12")):
         return obj
     if callable(obj):
@@ -151,6 +231,57 @@ class Sheet:
     def coordinates(self) -> tuple[np.ndarray, np.ndarray]:
         """Parameter coordinates of the nodes, two (M, N) arrays (index order m, n)."""
         return np.meshgrid(*self.axes(), indexing="ij")
+
+    def edge(self, name: str) -> Edge:
+        """The edge called ``name`` (one of :data:`EDGES`); ValueError naming the valid ones otherwise."""
+        try:
+            return EDGES[name]
+        except (KeyError, TypeError):
+            raise ValueError(f"unknown edge {name!r}; expected one of {sorted(EDGES)}") from None
+
+    def edge_nodes(self, name: str, depth: int = 1) -> np.ndarray:
+        """Boolean (M, N) mask of the ``depth`` node rows at the edge called ``name``."""
+        mask = np.zeros(self.nodes, bool)
+        mask[self.edge(name).rows(depth)] = True
+        return mask
+
+    def locate(self, a, what: str = "parameter points") -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Cells and reference coordinates of parameter points.
+
+        Parameters
+        ----------
+        a : array (P, 2) (or (2,))
+            Points (a1, a2) inside the rectangle (scene units).
+        what : str
+            Named in the error message.
+
+        Returns
+        -------
+        i, j : int arrays (P,)
+            Cell (node index of its lower-left corner), 0 <= i <= M - 2, 0 <= j <= N - 2.
+        s, t : arrays (P,)
+            Reference coordinates in [0, 1] of the points in their cells.
+
+        Raises
+        ------
+        ValueError
+            For points that are not finite or lie outside the rectangle (naming the first).
+        """
+        a = np.asarray(a, float)
+        if a.ndim == 1:
+            a = a[None]
+        (L1, L2), (M, N) = self.size, self.nodes
+        if a.ndim != 2 or a.shape[1] != 2 or not np.all(np.isfinite(a)):
+            raise ValueError(f"{what} must be (P, 2) finite parameter points, got shape {a.shape}")
+        tol = 1e-12 * max(L1, L2)
+        outside = (a[:, 0] < -tol) | (a[:, 0] > L1 + tol) | (a[:, 1] < -tol) | (a[:, 1] > L2 + tol)
+        if np.any(outside):
+            raise ValueError(f"{what} {tuple(a[outside][0])!r} lies outside [0, {L1}] x [0, {L2}]")
+        h1, h2 = self.h
+        s, t = a[:, 0] / h1, a[:, 1] / h2
+        i = np.clip(np.floor(s).astype(np.int64), 0, M - 2)
+        j = np.clip(np.floor(t).astype(np.int64), 0, N - 2)
+        return i, j, np.clip(s - i, 0.0, 1.0), np.clip(t - j, 0.0, 1.0)
 
     def with_nodes(self, nodes: tuple[int, int]) -> Sheet:
         """The same rectangle and shapes on another node grid."""

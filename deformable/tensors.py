@@ -5,7 +5,8 @@ the same call serves finite-difference nodes (``*pts = M, N``) and
 finite-element quadrature points (``*pts = elements, points``).
 
 - metric tensor, eq. (4)-(5):   ``G_ij = r_i . r_j``
-- unit normal:                   ``n = (r_1 x r_2) / |r_1 x r_2|``
+- unit normal:                   ``n = (r_1 x r_2) / |r_1 x r_2|`` (:func:`frame` gives n and
+  the area element ``|r_1 x r_2|`` along any axis: the energy modules work points first)
 - curvature tensor, eq. (8):     ``B_ij = n . r_ij``
 - Gaussian curvature:            ``K = det B / det G``
 """
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["metric", "normal", "curvature", "gaussian_curvature", "det2", "skew", "normal_hessian"]
+__all__ = ["metric", "normal", "frame", "dot", "curvature", "gaussian_curvature", "det2", "skew", "normal_hessian"]
 
 
 def metric(dr: np.ndarray) -> np.ndarray:
@@ -32,15 +33,37 @@ def metric(dr: np.ndarray) -> np.ndarray:
     return np.einsum("ai...,aj...->ij...", dr, dr)
 
 
-def normal(dr: np.ndarray) -> np.ndarray:
-    """Unit normal n = (r_1 x r_2)/|r_1 x r_2|, shape (3, *pts) from dr (3, 2, *pts).
+def dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
+    """The dot product over the components on ``axis`` (default last: points first)."""
+    return np.sum(a * b, axis=axis)
+
+
+def frame(t1: np.ndarray, t2: np.ndarray, axis: int = -1) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normal n = (t1 x t2)/|t1 x t2| and the area element |t1 x t2|.
+
+    Parameters
+    ----------
+    t1, t2 : arrays with the 3 components on ``axis``
+        The tangents r_1, r_2.
+
+    Returns
+    -------
+    n : array of the shape of t1
+    area : array without ``axis``
+        |r_1 x r_2| = sqrt(det G).
 
     Where the tangents are parallel (a degenerate surface) the normal is NaN:
     callers that can meet such points must guard them.
     """
-    c = np.cross(dr[:, 0], dr[:, 1], axis=0)
+    c = np.cross(t1, t2, axis=axis)
+    area = np.linalg.norm(c, axis=axis)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return c / np.linalg.norm(c, axis=0)
+        return c / np.expand_dims(area, axis), area
+
+
+def normal(dr: np.ndarray) -> np.ndarray:
+    """Unit normal n = (r_1 x r_2)/|r_1 x r_2|, shape (3, *pts) from dr (3, 2, *pts) (see :func:`frame`)."""
+    return frame(dr[:, 0], dr[:, 1], axis=0)[0]
 
 
 def curvature(ddr: np.ndarray, n: np.ndarray) -> np.ndarray:
@@ -93,10 +116,9 @@ def normal_hessian(t1: np.ndarray, t2: np.ndarray, V: np.ndarray) -> tuple[np.nd
     linear in V and Q does not depend on it, so residuals that share a frame
     can sum their weighted V first.
     """
-    c = np.cross(t1, t2)
-    nc = np.linalg.norm(c, axis=-1)[..., None, None]
-    n = c / nc[..., 0]
-    Vn = np.einsum("...a,...a->...", V, n)[..., None, None]
+    n, area = frame(t1, t2)
+    nc = area[..., None, None]
+    Vn = dot(V, n)[..., None, None]
     W = (V - Vn[..., 0] * n) / nc[..., 0]
     P = np.eye(3) - n[..., :, None] * n[..., None, :]
     Hf = -(W[..., :, None] * n[..., None, :] + n[..., :, None] * W[..., None, :]) / nc - Vn * P / nc**2

@@ -1,6 +1,18 @@
-"""fdmodel: the paper's finite-difference discretisation (section 2.3, TPBF87 appendix)."""
+"""fdmodel: the paper's finite-difference discretisation (section 2.3, TPBF87 appendix).
 
+``FDModel(scene, weighting="pointwise")`` behind the backend contract
+(:class:`deformable.Backend`), module for module like :mod:`femodel`:
+
+- :mod:`fdmodel.model`: the model (geometry, loads, constraints, the system (21));
+- :mod:`fdmodel.operators`: the difference operators (FE's counterpart: :mod:`femodel.hermite`);
+- :mod:`fdmodel.strength`: the strength matrix K(r) of eq. (16)-(20) on a fixed pattern;
+- :mod:`fdmodel.energy`: the discrete energy (13), its exact gradient and Hessians.
+"""
+
+from .energy import DiscreteEnergy
 from .model import WEIGHTINGS, FDModel
-from .operators import node_derivatives, operators
+from .operators import node_derivatives, node_tensors, operators
+from .strength import StrengthMatrix
 
-__all__ = ["FDModel", "WEIGHTINGS", "node_derivatives", "operators"]
+__all__ = ["FDModel", "WEIGHTINGS", "node_derivatives", "node_tensors", "operators", "StrengthMatrix",
+           "DiscreteEnergy"]

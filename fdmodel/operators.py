@@ -13,8 +13,11 @@ this makes the outer operators of eq. (16) their adjoints, e.g.
     K = sum_ij (D_i+)^T diag(alpha_ij) D_j+ + (D_ij)^T diag(beta_ij) D_ij     (eq. 16-20)
 
 is symmetric. The sparse operators below follow that rule; the array
-functions (:func:`node_derivatives`) give values at *every* node for
-reporting G and B, with one-sided differences where the rule would give zero.
+functions (:func:`node_derivatives`, :func:`node_tensors`) give values at
+*every* node for reporting G and B, with one-sided differences where the rule
+would give zero. The tangents of the normal (:func:`tangents`) are forward
+differences, backward on the last row (docs/design.md: the normal at a node
+is a documented choice).
 """
 
 from __future__ import annotations
@@ -22,7 +25,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["forward_1d", "central2_1d", "operators", "node_derivatives", "valid_rows"]
+from deformable import tensors
+
+__all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "node_derivatives", "node_tensors",
+           "valid_rows"]
 
 
 def forward_1d(n: int, h: float) -> sp.csr_matrix:
@@ -42,6 +48,22 @@ def central2_1d(n: int, h: float) -> sp.csr_matrix:
     upper[0] = 0.0  # row 0
     lower[-1] = 0.0  # row n-1
     return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
+
+
+def tangent_1d(n: int, h: float) -> sp.csr_matrix:
+    """(n, n) forward difference with the backward one on the last row (the tangents of the normal)."""
+    main = np.full(n, -1.0 / h)
+    upper = np.full(n - 1, 1.0 / h)
+    lower = np.zeros(n - 1)
+    main[-1] = 1.0 / h
+    lower[-1] = -1.0 / h
+    return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
+
+
+def tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The sparse tangent operators T1, T2 (MN, MN): r_1, r_2 at every node as in :func:`node_derivatives`."""
+    I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
+    return sp.kron(tangent_1d(M, h1), I2, format="csr"), sp.kron(I1, tangent_1d(N, h2), format="csr")
 
 
 def operators(M: int, N: int, h1: float, h2: float) -> dict[str, sp.csr_matrix]:
@@ -113,3 +135,9 @@ def node_derivatives(R: np.ndarray, h1: float, h2: float) -> tuple[np.ndarray, n
     dr = np.stack([r1, r2], axis=1)
     ddr = np.stack([np.stack([r11, r12], axis=1), np.stack([r12, r22], axis=1)], axis=1)
     return dr, ddr
+
+
+def node_tensors(R: np.ndarray, h1: float, h2: float) -> tuple[np.ndarray, np.ndarray]:
+    """G (eq. 18) and B (eq. 19) at every node from positions R (M, N, 3): two (2, 2, M, N) arrays."""
+    dr, ddr = node_derivatives(R, h1, h2)
+    return tensors.metric(dr), tensors.curvature(ddr, tensors.normal(dr))

@@ -23,11 +23,11 @@ the chain rule, ``d/da1 = (1/h1) d/ds``, ``d/da2 = (1/h2) d/dt``.
 Why not ``skfem.ElementQuadBFS``: it is an ``ElementGlobal`` that inverts a
 Vandermonde matrix of monomials in the *global* coordinates on every element;
 on fine meshes that matrix is badly conditioned and nodal interpolation loses
-accuracy (DESIGN.md: value error 1e-7 at 32 x 32, 4e-4 at 128 x 128
+accuracy (docs/design.md: value error 1e-7 at 32 x 32, 4e-4 at 128 x 128
 elements). The reference-element construction above involves no inversion;
 its shape functions are O(1) polynomials in s, t on every element, so the
 round-off of an evaluation stays at a few ulp of |r| whatever h is (measured
-clean to 256 x 256 elements, tests/femodel/test_convergence.py).
+clean to 256 x 256 elements, tests/femodel/test_hermite.py).
 
 The space is C1 on a tensor-product mesh (H2-conforming), as the bending
 term ``beta_ij r_ij . v_ij`` of the weak form of eq. (14) needs.
@@ -37,7 +37,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cubic_hermite", "LOCAL", "basis", "NODE_DOFS", "DERIVATIVES"]
+from deformable import tensors
+
+__all__ = ["cubic_hermite", "LOCAL", "basis", "evaluate", "surface_tensors", "NODE_DOFS", "DERIVATIVES"]
 
 NODE_DOFS = 4  # r, h1 r_1, h2 r_2, h1 h2 r_12
 
@@ -96,3 +98,48 @@ def basis(s, t, h: tuple[float, float], d: tuple[int, int] = (0, 0)) -> np.ndarr
     d1, d2 = d
     h1, h2 = h
     return cubic_hermite(s, d1)[_I1] * cubic_hermite(t, d2)[_I2] / (h1**d1 * h2**d2)
+
+
+def evaluate(X: np.ndarray, ldofs: np.ndarray, tables: list) -> np.ndarray:
+    """Values of the field X at the points of every element, for several basis tables.
+
+    Parameters
+    ----------
+    X : array (ndof, 3)
+    ldofs : int array (E, 16)
+        Global degrees of freedom of every element.
+    tables : list of k arrays (16, nq)
+        Shape functions or their derivatives at the points (:func:`basis`).
+
+    Returns
+    -------
+    array (3, k, E, nq)
+    """
+    D = np.concatenate(tables, axis=1)  # (16, k nq)
+    Xl = X.T[:, ldofs]  # (3, E, 16), contiguous
+    E = ldofs.shape[0]
+    out = (Xl.reshape(-1, Xl.shape[-1]) @ D).reshape(3, E, len(tables), -1)
+    return np.ascontiguousarray(out.transpose(0, 2, 1, 3))  # contiguous: the tensor algebra runs faster
+
+
+def surface_tensors(d: np.ndarray, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """G (eq. 4) and B (eq. 8) from the derivatives r_1, r_2, r_11, r_12, r_22 at points.
+
+    Parameters
+    ----------
+    d : array (3, 5, *pts)
+        The derivatives in the order of ``DERIVATIVES[1:]`` (:func:`evaluate`).
+    curvature : bool
+        With False, B is None (no normal is formed, so a sheet with degenerate
+        tangents can still be stretched).
+
+    Returns
+    -------
+    G, B : arrays (2, 2, *pts)
+    """
+    dr = d[:, 0:2]
+    G = tensors.metric(dr)
+    if not curvature:
+        return G, None
+    ddr = np.stack([d[:, 2:4], d[:, 3:5]], axis=1)  # (3, 2, 2, *pts): [[r11, r12], [r12, r22]]
+    return G, tensors.curvature(ddr, tensors.normal(dr))

@@ -22,21 +22,22 @@ so the rest state carries no internal force, unless the scene overrides them
 interpolated bilinearly to the Gauss points.
 
 The semi-discrete system (21) ``M R'' + C R' + K(r) R = F`` comes from the
-weak form of eq. (14) (:mod:`femodel.assembly`):
+weak form of eq. (14) (:mod:`femodel.strength`):
 
     K(u, v) = integral alpha_ij u_j v_i + beta_ij u_ij v_ij,
     M(u, v) = integral mu u v,   C(u, v) = integral gamma u v,
     F(v)    = integral f v  +  edge integral q v  +  P v(a_P),
 
-so K, M, C are integrated (consistent) matrices and F integrated loads; the
-kinetic energy is ``V^T M V / 2`` and, for the frozen model, the elastic
-energy ``R^T K R / 2``; for tpbf87 the energy of eq. (13) is integrated with
-the same Gauss rule.
+so K, M, C are integrated (consistent) matrices and F integrated loads (the
+backend contract's convention); the kinetic energy is ``V^T M V / 2`` and,
+for the frozen model, the elastic energy ``R^T K R / 2``; for tpbf87 and the
+variational model the energy of eq. (13) is integrated with the same Gauss
+rule (:mod:`femodel.energy`).
 
 ``force_model="variational"``: no K(r); the internal force is the exact
 gradient of that Gauss-rule energy (13), normal's dependence on r included,
 with a Gauss-Newton and an exact Hessian (3 ndof, 3 ndof) for the implicit
-steps and :func:`deformable.equilibrium` (:mod:`femodel.variational`).
+steps and :func:`deformable.equilibrium` (:mod:`femodel.energy`).
 Measured (2 shared cores, hanging sheet, dt = 1e-2): Hessian assembly 0.02 s
 at 16 x 16 elements, 0.12 s at 32 x 32; an implicit-Euler step 0.37 s and
 4.5 s (3 Newton iterations; SuperLU of the 13 068-dof Newton matrix, 1.1 s
@@ -51,19 +52,19 @@ plane); prescribed motion translates value degrees of freedom only. The clamp
 so also holds the tangential components of r_1 (the in-plane stretch at the
 edge), which the continuous energy leaves free: measured on the variational
 clamped strip, nodal errors O(h^3) with it, O(h^4) with only the normal
-components of r_1, r_12 held (tests/femodel/test_variational.py).
+components of r_1, r_12 held (tests/deformable/test_equilibrium.py).
 
 Stability with the stepper of eq. (22)-(27): alpha is lagged, so stretching
-is explicit (DESIGN.md, findings). With bicubic Hermite elements and the
+is explicit (docs/design.md, "Time stepping"). With bicubic Hermite elements and the
 consistent mass the largest eigenvalue of ``integral u_1 v_1`` against
 ``integral u v`` is about 91/h1^2 (the FD pair D1+^T D1+, diag(1): 4/h1^2),
 so the usable dt is about ``0.21 h sqrt(mu / (2 eta G))``, some 5 times below
-the FD bound. Measured on a hanging 8 x 8 element sheet (eta = 50, mu = 0.1):
+the FD bound (:meth:`FEModel.stable_step`). Measured on a hanging 8 x 8 element sheet (eta = 50, mu = 0.1):
 stable at dt = 6e-4, diverges at 9e-4 (bound 8.3e-4).
 
 Assembly cost: K's data is linear in the six coefficient fields
 (alpha_11, alpha_12, alpha_22, beta_11, beta_12 + beta_21, beta_22) at the
-Gauss points; :class:`femodel.assembly.FixedPattern` maps them to K.data by
+Gauss points; :class:`femodel.strength.StrengthMatrix` maps them to K.data by
 one dense product with precomputed element tables and one sparse scatter, on
 a pattern built once. Measured at 64 x 64 elements (16 900 dofs, 2 shared
 cores), TimeStepper.timings per step: assembly 14 ms (18 ms with bending),
@@ -80,17 +81,19 @@ import scipy.sparse as sp
 import skfem
 from skfem.quadrature import get_quadrature_line
 
-from deformable import tensors
-from deformable.backend import Energy, Sample
-from deformable.constraints import EDGES, Clamp, Pin, Slide, select
+from deformable.assembly import element_vectors
+from deformable.backend import Energy, Sample, kinetic_energy
+from deformable.constraints import hold
+from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
+                                   require_strength_matrix)
 from deformable.scene import Scene
-from deformable.sheet import as_surface
+from deformable.sheet import as_surface, bilinear
 
-from .assembly import FixedPattern, bending, mass, membrane
-from .hermite import DERIVATIVES, LOCAL, NODE_DOFS, basis
-from .variational import DiscreteEnergy
+from .energy import DiscreteEnergy
+from .hermite import DERIVATIVES, LOCAL, NODE_DOFS, basis, evaluate, surface_tensors
+from .strength import StrengthMatrix
 
-__all__ = ["FEModel", "ELEMENTS"]
+__all__ = ["FEModel", "ELEMENTS", "GAUSS_POINTS", "MEMBRANE_EIGENVALUE"]
 
 log = logging.getLogger(__name__)
 
@@ -98,19 +101,11 @@ log = logging.getLogger(__name__)
 ELEMENTS = ("hermite",)
 #: Gauss points per direction and element (exact for the consistent mass of bicubics)
 GAUSS_POINTS = 4
-#: local derivative degree of freedom along each edge (k = 1: h1 r_1, k = 2: h2 r_2)
-_TANGENTIAL = {"bottom": 1, "top": 1, "left": 2, "right": 2}
 #: points per chunk in :meth:`FEModel.sample` (bounds its memory)
 _CHUNK = 1 << 15
-
-
-def _edges_named(where) -> list[str]:
-    """The edge names in a selection (a name or a list of names); [] for any other selection."""
-    if isinstance(where, str):
-        return [where] if where in EDGES else []
-    if isinstance(where, (list, tuple)) and all(isinstance(w, str) for w in where):
-        return [w for w in where if w in EDGES]
-    return []
+#: largest eigenvalue of integral u_1 v_1 against the consistent mass integral u v, times h^2: about 91
+#: (FD's 4); written as FD's over 0.21^2, the measured ratio of the two stable steps
+MEMBRANE_EIGENVALUE = 4.0 / 0.21**2
 
 
 class FEModel:
@@ -130,18 +125,12 @@ class FEModel:
     ndof : int
         4 M N degrees of freedom per coordinate.
     a1q, a2q : arrays (E, nq)
-        Parameter coordinates of the Gauss points, element e = i (N - 1) + j.
+        Parameter coordinates of the Gauss points, element e = i (N - 1) + j (the contract's ``points``).
     weights : array (nq,)
         Gauss weights times the element area h1 h2.
-    pattern : femodel.assembly.FixedPattern
-        The CSR pattern shared by K, M and C.
-    measure : float
-        1: rows of K, M, C, F are integrated already (FD: h1 h2).
+    strength : femodel.strength.StrengthMatrix
+        The fixed CSR pattern shared by K, M and C, and the form tables.
     """
-
-    #: the tpbf87 step is stable on stretching for dt below about step_factor h sqrt(mu / (2 eta G)):
-    #: the consistent Hermite mass makes the stiffest stretching mode ~91/h^2 against FD's 4/h^2
-    step_factor = 0.21
 
     def __init__(self, scene: Scene, element: str = "hermite"):
         if element not in ELEMENTS:
@@ -150,50 +139,47 @@ class FEModel:
         self.scene, self.element = scene, element
         sheet, mat = scene.sheet, scene.material
         self.M, self.N = M, N = sheet.nodes
-        self.h1, self.h2 = sheet.h
+        self.h1, self.h2 = self.spacing = sheet.h
         self.ndof = NODE_DOFS * M * N
-        self.measure = 1.0  # K, M, C and F are integrated already: rows carry no area factor
+        self.value_dofs = NODE_DOFS * np.arange(M * N)
         self.linear = scene.force_model == "frozen"
         self.mesh = skfem.MeshQuad.init_tensor(*sheet.axes())
         self._build_elements()
         self._build_quadrature()
+        self.points = (self.a1q, self.a2q)
 
-        self.pattern = FixedPattern(self.ldofs, self.ndof)
-        self._T_membrane = self.pattern.templates(membrane(self.dq), self.weights)
-        self._T_stiffness = np.concatenate([self._T_membrane, self.pattern.templates(bending(self.dq), self.weights)])
-        T_mass = self.pattern.templates(mass(self.dq), self.weights)
+        self.strength = StrengthMatrix(self.ldofs, self.ndof, self.dq, self.weights)
         self.mu = self.to_quadrature(mat.field("mu", (M, N)))
         self.gamma = self.to_quadrature(mat.field("gamma", (M, N)))
-        self._M = self.pattern.matrix(self.pattern.data(self.mu, T_mass))
-        self._C = self.pattern.matrix(self.pattern.data(self.gamma, T_mass))
-        # scatter of element load vectors (E 16) into the global vector (ndof)
-        E = self.ldofs.shape[0]
-        self._gather_t = sp.csr_matrix(
-            (np.ones(E * 16), (self.ldofs.ravel(), np.arange(E * 16))), shape=(self.ndof, E * 16)
-        )
+        self._M = self.strength.density_matrix(self.mu)
+        self._C = self.strength.density_matrix(self.gamma)
+        self._scatter = element_vectors(self.ldofs, self.ndof)  # element load vectors (E 16) -> (ndof)
 
         # rest state at the Gauss points: the discretised rest shape, or the scene's overrides
-        self._energy = None  # the discrete energy (13) with its derivatives ("variational")
-        if scene.force_model == "frozen":
+        if self.linear:
             self.alpha_fixed = self.to_quadrature(mat.tensor("alpha", (M, N)))
             self.beta_fixed = self.to_quadrature(mat.tensor("beta", (M, N)))
             self._bending = bool(np.any(self.beta_fixed != 0))
-            self._K_const = self._assemble(self.alpha_fixed, self.beta_fixed)
+            self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
+            self._energy = QuadraticEnergy(self._K_const, self.strength.matrix(self.alpha_fixed, None),
+                                           self.strength.matrix(None, self.beta_fixed))
         else:
             self.eta = self.to_quadrature(mat.tensor("eta", (M, N)))
             self.xi = self.to_quadrature(mat.tensor("xi", (M, N)))
             self._bending = bool(np.any(self.xi != 0))
             G, B = self.tensors(self.discretize(sheet.rest), curvature=True)
             self.G0, self.B0 = scene.rest_tensors(self.a1q, self.a2q, G, B)
-        self._energy = DiscreteEnergy(self) if scene.force_model == "variational" else None
-        self._build_constraints()
+            self._energy = DiscreteEnergy(self.ldofs, self.ndof, self.dq, self.weights, self.eta, self.xi,
+                                          self.G0, self.B0)
+        self._held = hold(scene, self.ndof, node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs,
+                          clamp_dofs=self._clamp_dofs)
         log.debug("FEModel %d x %d elements, %d dofs, nnz %d, built in %.3f s",
-                  M - 1, N - 1, self.ndof, self.pattern.nnz, time.perf_counter() - start)
+                  M - 1, N - 1, self.ndof, self.strength.elements.nnz, time.perf_counter() - start)
 
     # -- mesh, elements, quadrature -----------------------------------------
     def _build_elements(self):
         """Element (i, j) and its 16 global degrees of freedom, from the skfem mesh."""
-        M, N = self.M, self.N
+        N = self.N
         p, t = self.mesh.p, self.mesh.t
         m = np.rint(p[0] / self.h1).astype(np.int64)
         n = np.rint(p[1] / self.h2).astype(np.int64)
@@ -224,14 +210,7 @@ class FEModel:
 
     def to_quadrature(self, field: np.ndarray) -> np.ndarray:
         """Bilinear interpolation of a node field (..., M, N) to the Gauss points (..., E, nq)."""
-        i, j = self.elem_ij[:, 0], self.elem_ij[:, 1]
-        s, t = self.qs, self.qt
-        field = np.asarray(field, float)
-
-        def f(di, dj):
-            return field[..., i + di, j + dj][..., None]
-
-        return (1 - s) * (1 - t) * f(0, 0) + s * (1 - t) * f(1, 0) + (1 - s) * t * f(0, 1) + s * t * f(1, 1)
+        return bilinear(field, self.elem_ij[:, 0, None], self.elem_ij[:, 1, None], self.qs, self.qt)
 
     # -- geometry -----------------------------------------------------------
     def _check_state(self, X, name: str = "X") -> np.ndarray:
@@ -274,12 +253,7 @@ class FEModel:
         -------
         array (3, len(which), E, nq)
         """
-        X = self._check_state(X)
-        D = np.concatenate([self.dq[d] for d in which], axis=1)  # (16, k nq)
-        Xl = X.T[:, self.ldofs]  # (3, E, 16), contiguous
-        E, nq = self.a1q.shape
-        out = (Xl.reshape(-1, Xl.shape[-1]) @ D).reshape(3, E, len(which), nq)
-        return np.ascontiguousarray(out.transpose(0, 2, 1, 3))  # contiguous: the tensor algebra runs faster
+        return evaluate(self._check_state(X), self.ldofs, [self.dq[d] for d in which])
 
     def tensors(self, X: np.ndarray, curvature: bool = True):
         """G (eq. 4) and B (eq. 8) at the Gauss points, two (2, 2, E, nq) arrays.
@@ -287,39 +261,20 @@ class FEModel:
         With ``curvature=False`` B is None (no normal is formed, so a sheet
         with degenerate tangents can still be stretched).
         """
-        d = self.derivatives(X)
-        dr = d[:, 0:2]
-        G = tensors.metric(dr)
-        if not curvature:
-            return G, None
-        ddr = np.stack([d[:, 2:4], d[:, 3:5]], axis=1)  # (3, 2, 2, E, nq): [[r11, r12], [r12, r22]]
-        return G, tensors.curvature(ddr, tensors.normal(dr))
+        return surface_tensors(self.derivatives(X), curvature)
 
     def alpha_beta(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """alpha_ij and beta_ij of eq. (15) at the Gauss points, two (2, 2, E, nq) arrays."""
         if self.linear:
             return self.alpha_fixed, self.beta_fixed
         G, B = self.tensors(X, curvature=self._bending)
-        alpha = self.eta * (G - self.G0)
-        beta = self.xi * (B - self.B0) if self._bending else np.zeros_like(alpha)
-        return alpha, beta
+        a = alpha(self.eta, G, self.G0)
+        return a, beta(self.xi, B, self.B0) if self._bending else np.zeros_like(a)
 
     def _locate(self, a: np.ndarray, what: str):
         """Element index, reference coordinates s, t of parameter points a (P, 2)."""
-        a = np.asarray(a, float)
-        if a.ndim == 1:
-            a = a[None]
-        L1, L2 = self.scene.sheet.size
-        tol = 1e-12 * max(L1, L2)
-        if a.ndim != 2 or a.shape[1] != 2 or not np.all(np.isfinite(a)):
-            raise ValueError(f"{what} must be (P, 2) finite parameter points, got shape {a.shape}")
-        outside = (a[:, 0] < -tol) | (a[:, 0] > L1 + tol) | (a[:, 1] < -tol) | (a[:, 1] > L2 + tol)
-        if np.any(outside):
-            raise ValueError(f"{what} {a[outside][0]!r} lies outside [0, {L1}] x [0, {L2}]")
-        s, t = a[:, 0] / self.h1, a[:, 1] / self.h2
-        i = np.clip(np.floor(s).astype(np.int64), 0, self.M - 2)
-        j = np.clip(np.floor(t).astype(np.int64), 0, self.N - 2)
-        return i * (self.N - 1) + j, np.clip(s - i, 0.0, 1.0), np.clip(t - j, 0.0, 1.0)
+        i, j, s, t = self.scene.sheet.locate(a, what)
+        return i * (self.N - 1) + j, s, t
 
     def sample(self, X: np.ndarray, a: np.ndarray) -> Sample:
         """r, G (eq. 4), B (eq. 8) of the finite-element surface at parameter points.
@@ -341,32 +296,13 @@ class FEModel:
         for lo in range(0, e.size, _CHUNK):  # chunks of points, to bound memory
             sl = slice(lo, lo + _CHUNK)
             Xl = X[self.ldofs[e[sl]]]  # (P, 16, 3)
-            v = [np.einsum("plc,lp->cp", Xl, basis(s[sl], t[sl], h, d)) for d in DERIVATIVES]
-            dr = np.stack([v[1], v[2]], axis=1)
-            ddr = np.stack([np.stack([v[3], v[4]], axis=1), np.stack([v[4], v[5]], axis=1)], axis=1)
-            r[sl] = v[0].T
-            G[sl] = np.moveaxis(tensors.metric(dr), -1, 0)
-            B[sl] = np.moveaxis(tensors.curvature(ddr, tensors.normal(dr)), -1, 0)
+            v = np.stack([np.einsum("plc,lp->cp", Xl, basis(s[sl], t[sl], h, d)) for d in DERIVATIVES], axis=1)
+            r[sl] = v[:, 0].T
+            Gs, Bs = surface_tensors(v[:, 1:])
+            G[sl], B[sl] = np.moveaxis(Gs, -1, 0), np.moveaxis(Bs, -1, 0)
         return Sample(r=r, G=G, B=B)
 
     # -- the semi-discrete system (21) --------------------------------------
-    def _coefficients(self, alpha: np.ndarray, beta: np.ndarray | None) -> np.ndarray:
-        """Coefficient fields of the weak form, (E, C nq), in the order of the form tables."""
-        c = [alpha[0, 0], 0.5 * (alpha[0, 1] + alpha[1, 0]), alpha[1, 1]]
-        if beta is not None:
-            c += [beta[0, 0], beta[0, 1] + beta[1, 0], beta[1, 1]]
-        return np.stack(c, axis=1).reshape(alpha.shape[2], -1)
-
-    def _assemble(self, alpha: np.ndarray | None, beta: np.ndarray | None) -> sp.csr_matrix:
-        """K of the weak form for alpha, beta (2, 2, E, nq) at the Gauss points; None is zero."""
-        if beta is None or not np.any(beta):
-            alpha = np.zeros((2, 2) + self.a1q.shape) if alpha is None else alpha
-            data = self.pattern.data(self._coefficients(alpha, None), self._T_membrane)
-        else:
-            alpha = np.zeros_like(beta) if alpha is None else alpha
-            data = self.pattern.data(self._coefficients(alpha, beta), self._T_stiffness)
-        return self.pattern.matrix(data)
-
     def stiffness(self, X: np.ndarray) -> sp.csr_matrix:
         """Strength matrix K(r) (ndof, ndof) of the weak form of eq. (14), symmetric, fixed pattern.
 
@@ -375,23 +311,17 @@ class FEModel:
         """
         if self.linear:
             return self._K_const
-        if self._energy is not None:
-            raise ValueError("the variational force model has no strength matrix K(r) of eq. (20); "
-                             "use energy_gradient / energy_hessian (TimeStepper scheme 'implicit-euler' or 'newmark')")
-        return self._assemble(*self.alpha_beta(X))
+        require_strength_matrix(self.scene)
+        return self.strength.matrix(*self.alpha_beta(X))
 
     def energy_gradient(self, X: np.ndarray) -> np.ndarray:
         """Exact gradient of the discrete energy, (ndof, 3) (N).
 
         Variational model: the gradient of eq. (13) by the Gauss rule
-        (:mod:`femodel.variational`); frozen model: K R. The tpbf87 force (14)
+        (:mod:`femodel.energy`); frozen model: K R. The tpbf87 force (14)
         is not a gradient (ValueError).
         """
-        if self.linear:
-            return self._K_const @ self._check_state(X)
-        if self._energy is None:
-            raise ValueError(f"force_model {self.scene.force_model!r} has no energy gradient on FEModel: its force "
-                             "(14) is not the gradient of eq. (13); use force_model 'variational'")
+        require_energy_gradient(self.scene)
         return self._energy.gradient(self._check_state(X))
 
     def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
@@ -401,11 +331,7 @@ class FEModel:
         (symmetric positive semi-definite), on a fixed pattern. Frozen model:
         the block diagonal of K (exact, so ``kind`` does not matter).
         """
-        if self.linear:
-            return sp.kron(sp.identity(3), self._K_const, format="csr")
-        if self._energy is None:
-            raise ValueError(f"force_model {self.scene.force_model!r} has no energy Hessian on FEModel; "
-                             "use force_model 'variational'")
+        require_energy_gradient(self.scene)
         return self._energy.hessian(self._check_state(X), kind)
 
     def internal_force(self, X: np.ndarray) -> np.ndarray:
@@ -413,7 +339,7 @@ class FEModel:
 
         K(r) R for tpbf87 and frozen; the energy gradient for the variational model.
         """
-        if self._energy is not None:
+        if self.scene.force_model == "variational":
             return self.energy_gradient(X)
         return self.stiffness(X) @ self._check_state(X)
 
@@ -424,10 +350,6 @@ class FEModel:
     def damping(self) -> sp.csr_matrix:
         """Consistent damping matrix, integral gamma u v (kg/s), on K's pattern."""
         return self._C
-
-    def _scatter(self, local: np.ndarray) -> np.ndarray:
-        """Element vectors (E, 16, 3) summed into the global vector (ndof, 3)."""
-        return self._gather_t @ local.reshape(-1, 3)
 
     def load(self, X: np.ndarray, t: float) -> np.ndarray:
         """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis.
@@ -443,21 +365,17 @@ class FEModel:
         for force in self.scene.forces:
             if force.kind == "body":
                 f = force.density(self.a1q, self.a2q, t, self.mu) * self.weights[:, None]  # (E, nq, 3)
-                F += self._scatter((f.transpose(0, 2, 1) @ self.dq[0, 0].T).transpose(0, 2, 1))
+                F += self._scatter @ (f.transpose(0, 2, 1) @ self.dq[0, 0].T).transpose(0, 2, 1).reshape(-1, 3)
             elif force.kind == "edge":
-                i, j = self.elem_ij[:, 0], self.elem_ij[:, 1]
-                L1, L2 = self.scene.sheet.size
-                zero, one = np.zeros_like(x), np.ones_like(x)
-                sel, s, tt, length = {
-                    "bottom": (j == 0, x, zero, self.h1),
-                    "top": (j == self.N - 2, x, one, self.h1),
-                    "left": (i == 0, zero, x, self.h2),
-                    "right": (i == self.M - 2, one, x, self.h2),
-                }[force.edge]
-                e = np.flatnonzero(sel)
-                a1 = (i[e, None] + s[None]) * self.h1
-                a2 = (j[e, None] + tt[None]) * self.h2
-                q = force.traction(a1, a2, t) * (w * length)[None, :, None]  # (Ee, nq, 3)
+                edge = self.scene.sheet.edge(force.edge)
+                end = 0 if edge.side == 0 else self.scene.sheet.nodes[edge.axis] - 2  # the elements along the edge
+                e = np.flatnonzero(self.elem_ij[:, edge.axis] == end)
+                ref = [x, x]
+                ref[edge.axis] = np.full_like(x, 0.0 if edge.side == 0 else 1.0)
+                s, tt = ref
+                a1 = (self.elem_ij[e, 0, None] + s[None]) * self.h1
+                a2 = (self.elem_ij[e, 1, None] + tt[None]) * self.h2
+                q = force.traction(a1, a2, t) * (w * self.spacing[edge.along])[None, :, None]  # (Ee, nq, 3)
                 local = np.einsum("eqc,lq->elc", q, basis(s, tt, h))
                 np.add.at(F, self.ldofs[e], local)
             else:
@@ -467,61 +385,34 @@ class FEModel:
 
     def energy(self, X: np.ndarray) -> Energy:
         """Elastic energy (J): eq. (13) by the Gauss rule (tpbf87, variational); R^T K R / 2 split alpha/beta (frozen)."""
-        X = self._check_state(X)
-        if self.linear:
-            Ks = self._assemble(self.alpha_fixed, None)
-            Kb = self._assemble(None, self.beta_fixed)
-            return Energy(0.5 * float(np.sum(X * (Ks @ X))), 0.5 * float(np.sum(X * (Kb @ X))))
-        G, B = self.tensors(X, curvature=self._bending)
-        es = float(np.sum(self.eta * (G - self.G0) ** 2 * self.weights))
-        eb = float(np.sum(self.xi * (B - self.B0) ** 2 * self.weights)) if self._bending else 0.0
-        return Energy(es, eb)
+        return self._energy.energy(self._check_state(X))
 
     def kinetic_energy(self, V: np.ndarray) -> float:
         """Kinetic energy V^T M V / 2 (J) with the consistent mass."""
-        V = self._check_state(V, "V")
-        return 0.5 * float(np.sum(V * (self._M @ V)))
+        return kinetic_energy(self._M, self._check_state(V, "V"))
+
+    def stable_step(self) -> float:
+        """The stretching bound of the semi-implicit step (s): about 0.21 h sqrt(mu / (2 eta)) for tpbf87, else inf."""
+        return lagged_alpha_step(self.scene, self.mu, getattr(self, "eta", None), self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- constraints ----------------------------------------------------------
     def _node_dofs(self, mask: np.ndarray, k: int = 0) -> np.ndarray:
         """Degree of freedom k (0 value, 1 h1 r_1, 2 h2 r_2, 3 h1 h2 r_12) of the nodes in an (M, N) mask."""
         return NODE_DOFS * np.flatnonzero(mask) + k
 
-    def _selection_dofs(self, where) -> np.ndarray:
-        """Value dofs of a selection, plus the tangential derivative dofs of the edges it names."""
-        dofs = [self._node_dofs(select(where, self.scene.sheet))]
-        for edge in _edges_named(where):
-            dofs.append(self._node_dofs(select(edge, self.scene.sheet), _TANGENTIAL[edge]))
-        return np.concatenate(dofs)
+    def _edge_tangent_dofs(self, name: str) -> np.ndarray:
+        """The derivative along the edge at its nodes: known once r is known along the whole edge."""
+        return self._node_dofs(self.scene.sheet.edge_nodes(name), 1 + self.scene.sheet.edge(name).along)
 
-    def _build_constraints(self):
-        fixed = np.zeros((3, self.ndof), bool)
-        self._motions = []
-        for c in self.scene.constraints:
-            if isinstance(c, Pin):
-                dofs = self._selection_dofs(c.where)
-                fixed[:, dofs] = True
-                if c.motion is not None:
-                    self._motions.append((self._node_dofs(select(c.where, self.scene.sheet)), c.motion))
-            elif isinstance(c, Slide):
-                dofs = self._selection_dofs(c.where)
-                for k in range(3):
-                    if k != c.axis:
-                        fixed[k, dofs] = True
-            elif isinstance(c, Clamp):
-                for edge in c.edges:
-                    mask = select(edge, self.scene.sheet)
-                    for k in range(NODE_DOFS):
-                        fixed[:, self._node_dofs(mask, k)] = True
-        self._fixed = tuple(np.flatnonzero(f) for f in fixed)
+    def _clamp_dofs(self, name: str) -> np.ndarray:
+        """Every degree of freedom of the edge's nodes (value and tangent plane)."""
+        mask = self.scene.sheet.edge_nodes(name)
+        return np.concatenate([self._node_dofs(mask, k) for k in range(NODE_DOFS)])
 
     def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Indices of the held degrees of freedom of x, y and z."""
-        return self._fixed
+        return self._held.fixed
 
     def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray:
         """X0 with the value dofs of moving pins translated by their motion at time t, (ndof, 3)."""
-        X = np.array(self._check_state(X0, "X0"), dtype=float)
-        for idx, motion in self._motions:
-            X[idx] += np.asarray(motion(t), float)
-        return X
+        return self._held.prescribed(self._check_state(X0, "X0"), t)

@@ -1,14 +1,22 @@
-"""The validation studies; importing this package registers each in :data:`validation.study.STUDIES`.
+"""The validation studies and their registry :data:`STUDIES` (name -> Study, in the order they run).
 
-Order of registration is the order ``deformable validate`` runs them.
+Each module defines one :class:`~validation.harness.study.Study` as ``STUDY``.
 """
 
-from . import tensors  # noqa: F401
-from . import modes  # noqa: F401,E402
-from . import statics  # noqa: F401,E402
-from . import cross  # noqa: F401,E402
-from . import temporal  # noqa: F401,E402  (the study "time")
-from . import compatibility  # noqa: F401,E402
-from . import work  # noqa: F401,E402
-from . import variational  # noqa: F401,E402
-from . import paper  # noqa: F401,E402
+from __future__ import annotations
+
+from . import compatibility, cross, modes, paper, statics, temporal, tensors, variational, work
+
+__all__ = ["STUDIES", "get_study"]
+
+#: name -> Study, in the order ``deformable validate`` runs them
+STUDIES = {m.STUDY.name: m.STUDY for m in (tensors, modes, statics, cross, temporal, compatibility, work,
+                                           variational, paper)}
+
+
+def get_study(name: str):
+    """The registered study ``name``; ValueError naming the known ones otherwise."""
+    try:
+        return STUDIES[name]
+    except KeyError:
+        raise ValueError(f"unknown study {name!r}; known: {', '.join(STUDIES)}") from None

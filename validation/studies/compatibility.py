@@ -27,12 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
-from validation import surfaces as sf
 from deformable.compatibility import IncompatibleRestState, check_compatibility, check_rest_state, warn_if_incompatible
-from validation.orders import fit_order
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.harness import surfaces as sf
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 COARSEST = 17
 MARGIN = 2
@@ -60,12 +59,10 @@ def run_case(case: Case) -> dict:
         G, B = s.G(a1, a2), s.B(a1, a2)
     else:
         sheet = dm.Sheet(size=s.size, nodes=(n, n), rest=s)
-        sc = dm.Scene(sheet, dm.Material(eta=1.0, xi=1.0))
-        if case.source == "fd":
-            model = FDModel(sc)
+        model = make_model(dm.Scene(sheet, dm.Material(eta=1.0, xi=1.0)), case.source)
+        if case.source == "fd":  # the FD tensors are at the nodes already (eq. 18-19)
             G, B = model.tensors(model.initial_state())
         else:
-            model = FEModel(sc)
             a1, a2 = sheet.coordinates()
             smp = model.sample(model.initial_state(), np.stack([a1.ravel(), a2.ravel()], axis=1))
             G = np.moveaxis(smp.G, 0, -1).reshape(2, 2, n, n)
@@ -80,21 +77,15 @@ def _zero(e) -> bool:
     return bool(np.max(e) < 1e-9)
 
 
-@register("compatibility", Levels(quick=4, full=5, minimum=3, maximum=6),
-          "the paper's compatibility test (eq. 10): Gauss and Mainardi-Codazzi residuals, vector comparison",
-          surfaces=True)
-def study(levels: int, *, surfaces=None, runner=None) -> StudyResult:
+def fill(res, levels: int, runner, surfaces=None) -> None:
     """Run the compatibility study over ``levels`` grids (17, 33, 65, ... points a side)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     names = list(surfaces or sf.SURFACES)
     nodes = [nodes_at(k, COARSEST) for k in range(levels)]
     disc = "monge" if surfaces is None or "monge" in names else names[0]
     cases = [Case("exact", n_, k) for n_ in names for k in nodes]
     cases += [Case(b, disc, k) for b in ("fd", "fe") for k in nodes]
     raw = runner.map(run_case, cases, desc="compatibility")
-    res = StudyResult("compatibility", __doc__.split("\n")[0].split(": ", 1)[1], config={
+    res.config.update({
         "nodes": nodes, "surfaces": names, "discrete_surface": disc, "margin": MARGIN, "rtol": 0.05,
         "guard": 0.05, "order_window": "theory -0.3/+0.3"})
     rows, lines = [], {"exact": [], "disc": []}
@@ -170,4 +161,7 @@ def study(levels: int, *, surfaces=None, runner=None) -> StudyResult:
                                      tuple(lines["exact"]), (2.0,)),
                                Panel(f"discrete fields ({disc})", "grid spacing h (parameter units)",
                                      "max Gauss residual (1/m^2)", tuple(lines["disc"]), (1.0, 2.0)))))
-    return res
+
+
+STUDY = Study('compatibility', "the paper's compatibility test (eq. 10): Gauss and Mainardi-Codazzi residuals, vector comparison",
+              Levels(quick=4, full=5, minimum=3, maximum=6), fill, surfaces=True)

@@ -2,7 +2,7 @@ r"""Study ``modes``: linearised vibration about a flat sheet against the continu
 
 About the flat sheet r0 = (a1, a2, 0) with all four edges pinned, the
 transverse displacement w obeys mu w_tt - a (w_11 + w_22) + b (w_1111 + w_2222)
-= 0 (DESIGN.md, findings table), so the modes sin(j pi a1/L1) sin(k pi a2/L2)
+= 0 (docs/design.md, "Three readings of the model"), so the modes sin(j pi a1/L1) sin(k pi a2/L2)
 have
 
     w_jk^2 = [a pi^2 (j^2/L1^2 + k^2/L2^2) + b pi^4 (j^4/L1^4 + k^4/L2^4)] / mu.
@@ -40,9 +40,9 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from validation.backends import make_model
-from validation.orders import fit_order, pairwise_orders
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order, pairwise_orders
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 L1, L2, MU = 1.0, 0.8, 1.0
 ETA, G0, XI, B0 = 50.0, 0.81, 0.1, -0.5
@@ -71,7 +71,7 @@ def scene(kind: str, nodes: int) -> dm.Scene:
         return dm.Scene(sheet, dm.Material(mu=MU, alpha=ALPHA, beta=BETA), constraints=pins, force_model="frozen")
     with warnings.catch_warnings():
         # a flat sheet with B0 = b0 I is incompatible (eq. 10) on purpose: it is how the tpbf87
-        # reading gets a linear bending stiffness -xi b0 (DESIGN.md table)
+        # reading gets a linear bending stiffness -xi b0 (docs/design.md, "Three readings of the model")
         warnings.simplefilter("ignore", dm.IncompatibleRestState)
         if kind == "tpbf87 bending":
             return dm.Scene(sheet, dm.Material(mu=MU, eta=0.0, xi=XI), constraints=pins, rest_curvature=B0)
@@ -110,24 +110,19 @@ def run_case(case: Case) -> dict:
     """Lowest frequencies of one discretisation; for "tpbf87 xi only" the largest |K_zz| entry."""
     K, M, model = reduced(case.backend, case.kind, case.nodes)
     if case.kind == "tpbf87 xi only":
-        return {"h": model.h1, "max_K": float(abs(K).max()) if K.nnz else 0.0}
+        return {"h": model.spacing[0], "max_K": float(abs(K).max()) if K.nnz else 0.0}
     # shift-invert Lanczos (sparse LU, single-threaded): dense eigh was measured 50x slower on a loaded
     # 2-core machine through BLAS thread oversubscription
     w2 = np.sort(spla.eigsh(K.tocsc(), k=MODES, M=M.tocsc(), sigma=0.0, which="LM", return_eigenvectors=False))
-    return {"h": model.h1, "w": np.sqrt(np.abs(w2)).tolist()}
+    return {"h": model.spacing[0], "w": np.sqrt(np.abs(w2)).tolist()}
 
 
-@register("modes", Levels(quick=4, full=5, minimum=3, maximum=6),
-          "linearised frequencies about a flat pinned sheet (membrane, frozen bending, tpbf87) against the continuum")
-def study(levels: int, *, runner=None) -> StudyResult:
+def fill(res, levels: int, runner) -> None:
     """Run the modes study over ``levels`` levels (9, 17, 33, ... nodes a side, both backends)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     cases = [Case(b, kind, nodes_at(k, COARSEST[b])) for b in ("fd", "fe") for kind in CASES for k in range(levels)]
     cases += [Case(b, "tpbf87 xi only", COARSEST[b]) for b in ("fd", "fe")]
     raw = runner.map(run_case, cases, desc="modes")
-    res = StudyResult("modes", __doc__.split("\n")[0].split(": ", 1)[1], config={
+    res.config.update({
         "size": [L1, L2], "mu": MU, "eta": ETA, "rest_metric_g0": G0, "xi": XI, "rest_curvature_b0": B0,
         "alpha": ALPHA, "beta": BETA, "modes": MODES, "constraints": "all four edges pinned",
         "nodes": {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")},
@@ -178,4 +173,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
                                Panel("FE", "element size h (parameter units)", "max relative error of w",
                                      tuple(lines["fe"]), (4.0, 6.0)))))
     res.data = data
-    return res
+
+
+STUDY = Study('modes', 'linearised frequencies about a flat pinned sheet (membrane, frozen bending, tpbf87) against the continuum',
+              Levels(quick=4, full=5, minimum=3, maximum=6), fill)

@@ -29,9 +29,9 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from validation.backends import make_model
-from validation.orders import fit_order, pairwise_orders
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order, pairwise_orders
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 L1, L2, BETA, Q = 1.0, 0.8, 0.02, 1e-3
 COARSEST = {"fd": 9, "fe": 5}
@@ -74,20 +74,15 @@ def solve(backend: str, nodes: int):
 def run_case(case: Case) -> dict:
     model, X = solve(case.backend, case.nodes)
     w = float(model.sample(X, np.array([[L1 / 2, L2 / 2]])).r[0, 2])
-    return {"h": model.h1, "w": w}
+    return {"h": model.spacing[0], "w": w}
 
 
-@register("statics", Levels(quick=4, full=6, minimum=3, maximum=7),
-          "Navier centre deflection of the frozen-beta plate, simply supported, uniform load")
-def study(levels: int, *, runner=None) -> StudyResult:
+def fill(res, levels: int, runner) -> None:
     """Run the statics study over ``levels`` levels (FD 9, 17, ... nodes a side; FE 5, 9, ...)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     cases = [Case(b, nodes_at(k, COARSEST[b])) for b in ("fd", "fe") for k in range(levels)]
     raw = runner.map(run_case, cases, desc="statics")
     exact = navier_centre()
-    res = StudyResult("statics", __doc__.split("\n")[0].split(": ", 1)[1], config={
+    res.config.update({
         "size": [L1, L2], "beta": BETA, "q": Q, "constraints": "all four edges pinned",
         "nodes": {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")},
         "navier_centre_deflection": exact, "order_window": "theory -0.3/+0.3; finest relative error <= 1e-2"})
@@ -109,4 +104,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
     res.figures.append(Figure("deflection", "Relative error of the centre deflection against Navier's series",
                               (Panel("Navier plate, centre deflection", "grid spacing / element size h "
                                      "(parameter units)", "relative error of w_c", tuple(lines), (2.0, 4.0)),)))
-    return res
+
+
+STUDY = Study('statics', 'Navier centre deflection of the frozen-beta plate, simply supported, uniform load',
+              Levels(quick=4, full=6, minimum=3, maximum=7), fill)

@@ -8,7 +8,7 @@ nodes) give the observed order p = slope of log e_k against log dt_k.
 
 Theory: the scheme lags K(r) and uses the backward difference V_t of
 eq. (27); for one linear mode it damps by (1 + w^2 dt^2)^(-1/2) per step and
-shifts the phase to atan(w dt) (DESIGN.md): first order, p = 1.
+shifts the phase to atan(w dt) (docs/design.md): first order, p = 1.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from validation.backends import make_model
-from validation.orders import fit_order, pairwise_orders
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, order_check, register
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order, pairwise_orders
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, order_check
 
 
 def scene(nodes: int) -> dm.Scene:
@@ -47,17 +47,12 @@ def run_case(case: Case) -> dict:
     return {"status": r.status, "message": r.message, "grid": model.grid(r.state.X)}
 
 
-@register("time", Levels(quick=5, full=7, minimum=4, maximum=9),
-          "temporal order of the semi-implicit stepper (eq. 22-27) by dt-refinement on the hanging sheet")
-def study(levels: int, *, runner=None) -> StudyResult:
+def fill(res, levels: int, runner) -> None:
     """Run the time study with ``levels`` step sizes dt0 / 2^k (dt0 = 4 ms)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     dts = [DT0 / 2**k for k in range(levels)]
     cases = [Case(b, dt) for b in ("fd", "fe") for dt in dts]
     raw = runner.map(run_case, cases, desc="time")
-    res = StudyResult("time", __doc__.split("\n")[0].split(": ", 1)[1], config={
+    res.config.update({
         "scene": "sheet pinned along its top edge, gravity; mu 1, gamma 0.5, eta 10", "nodes": NODES, "dt": dts,
         "t_end": T_END,
         "order_window": "theory 1 -0.3/+0.3"})
@@ -81,4 +76,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
     res.figures.append(Figure("time", "Temporal self-convergence of the stepper",
                               (Panel("dt-refinement, hanging sheet", "time step dt (s)",
                                      "max |X(dt) - X(dt/2)| at t_end (m)", tuple(lines), (1.0,), "dt"),)))
-    return res
+
+
+STUDY = Study('time', 'temporal order of the semi-implicit stepper (eq. 22-27) by dt-refinement on the hanging sheet',
+              Levels(quick=5, full=7, minimum=4, maximum=9), fill)

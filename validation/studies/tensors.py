@@ -39,11 +39,10 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
-from validation import surfaces as sf
-from validation.orders import fit_order
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.harness import surfaces as sf
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 COMPONENTS = {"G11": ("G", 0, 0), "G12": ("G", 0, 1), "G22": ("G", 1, 1),
               "B11": ("B", 0, 0), "B12": ("B", 0, 1), "B22": ("B", 1, 1)}
@@ -112,10 +111,12 @@ def run_case(case: Case) -> dict:
     sheet = dm.Sheet(size=s.size, nodes=(case.nodes, case.nodes), rest=s)
     scene = dm.Scene(sheet, dm.Material(eta=1.0, xi=1.0))
     out = {}
+    model = make_model(scene, case.backend)
+    X = model.initial_state()
+    G, B = model.tensors(X)
+    a1, a2 = model.points
+    h1, h2 = model.spacing
     if case.backend == "fd":
-        model = FDModel(scene)
-        G, B = model.tensors(model.initial_state())
-        a1, a2, h1, h2 = model.a1, model.a2, model.h1, model.h2
         Gx, Bx = s.G(a1, a2), s.B(a1, a2)
         inner = np.zeros(a1.shape, bool)
         inner[1:-1, 1:-1] = True
@@ -125,21 +126,17 @@ def run_case(case: Case) -> dict:
             "G11": _errors((G[0, 0] - s.G(a1 + h1 / 2, a2)[0, 0])[:-1, :]),
             "G22": _errors((G[1, 1] - s.G(a1, a2 + h2 / 2)[1, 1])[:, :-1]),
         }
-        h = h1
     else:
-        model = FEModel(scene)
-        X = model.initial_state()
-        G, B = model.tensors(X)
-        out["Gauss 4x4"] = _component_errors(G, B, s.G(model.a1q, model.a2q), s.B(model.a1q, model.a2q))
+        out["Gauss 4x4"] = _component_errors(G, B, s.G(a1, a2), s.B(a1, a2))
         g = 0.5 + np.array([-1, 1]) / (2 * np.sqrt(3))
-        i, j = np.meshgrid(np.arange(model.M - 1), np.arange(model.N - 1), indexing="ij")
-        pts = np.stack([((i[..., None, None] + g[:, None]) * model.h1 + 0 * g[None, :]).ravel(),
-                        ((j[..., None, None] + g[None, :]) * model.h2 + 0 * g[:, None]).ravel()], axis=1)
+        M, N = sheet.nodes
+        i, j = np.meshgrid(np.arange(M - 1), np.arange(N - 1), indexing="ij")
+        pts = np.stack([((i[..., None, None] + g[:, None]) * h1 + 0 * g[None, :]).ravel(),
+                        ((j[..., None, None] + g[None, :]) * h2 + 0 * g[:, None]).ravel()], axis=1)
         out["Gauss 2x2"] = _sampled(model, X, s, pts)
-        a1, a2 = sheet.coordinates()
-        out["nodes"] = _sampled(model, X, s, np.stack([a1.ravel(), a2.ravel()], axis=1))
-        h = model.h1
-    return {"h": h, "errors": out}
+        n1, n2 = sheet.coordinates()
+        out["nodes"] = _sampled(model, X, s, np.stack([n1.ravel(), n2.ravel()], axis=1))
+    return {"h": h1, "errors": out}
 
 
 def _sampled(model, X, s, pts) -> dict[str, tuple[float, float]]:
@@ -153,33 +150,20 @@ def _roundoff(errors) -> bool:
     return bool(np.max(errors) < 1e-11)
 
 
-@register("tensors", Levels(quick=4, full=6, minimum=3, maximum=8),
-          "G_ij and B_ij errors of FD and FE on analytic surfaces; observed orders against theory",
-          surfaces=True)
-def study(levels: int, *, surfaces=None, runner=None) -> StudyResult:
-    """Run the tensors study over ``levels`` refinement levels.
+def fill(res, levels: int, runner, surfaces=None) -> None:
+    """The tensors study over ``levels`` refinement levels (9, 17, 33, ... nodes a side, both backends).
 
-    Parameters
-    ----------
-    levels : int
-        Number of levels; FD runs 9, 17, 33, ... nodes a side, FE 5, 9, 17, ...
-    surfaces : sequence of str, optional
-        Surface names (default: every surface of :data:`validation.surfaces.SURFACES`).
-    runner : validation.study.Runner, optional
+    ``surfaces``: surface names (default: every surface of :data:`validation.harness.surfaces.SURFACES`).
     """
-    from validation.study import Runner
-
-    runner = runner or Runner()
     names = list(surfaces or sf.SURFACES)
     for n in names:
         sf.get(n)
     cases = [Case(b, n, nodes_at(k, COARSEST[b])) for b in ("fd", "fe") for n in names for k in range(levels)]
     raw = runner.map(run_case, cases, desc="tensors")
-    res = StudyResult("tensors", __doc__.split("\n")[0].split(": ", 1)[1],
-                      config={"levels": levels, "surfaces": names,
-                              "nodes": {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")},
-                              "order_window": "theory -0.3/+0.3 on the max-norm order; finest max error <= 20 h^p",
-                              "symmetric_surfaces": list(SYMMETRIC)})
+    res.config.update({"surfaces": names,
+                       "nodes": {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")},
+                       "order_window": "theory -0.3/+0.3 on the max-norm order; finest max error <= 20 h^p",
+                       "symmetric_surfaces": list(SYMMETRIC)})
     rows, series, data, vanish = [], {}, {}, {}
     for b in ("fd", "fe"):
         for name in names:
@@ -238,7 +222,6 @@ def study(levels: int, *, surfaces=None, runner=None) -> StudyResult:
         note="p is blank where the error is round-off at every level. 'checked' rows are PASS/FAIL checks below."))
     res.data = data
     res.figures = _figures(series, names)
-    return res
 
 
 def _figures(series, names) -> list[Figure]:
@@ -286,3 +269,7 @@ def _figures(series, names) -> list[Figure]:
                         Panel("FE B22, 4x4 Gauss points", "element size h (parameter units)", "max error (1/length)",
                               tuple(fe_lines), (2.0,)))))
     return figs
+
+
+STUDY = Study("tensors", "G_ij and B_ij errors of FD and FE on analytic surfaces; observed orders against theory",
+              Levels(quick=4, full=6, minimum=3, maximum=8), fill, surfaces=True)

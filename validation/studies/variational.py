@@ -1,7 +1,7 @@
 r"""Study ``variational``: what the exact gradient of eq. (13) changes against the paper's force (14).
 
 Three benchmarks with closed-form answers, for the "variational" force model
-(DESIGN.md; full weight tensors eta_12 = eta, xi_12 = xi, since with the
+(docs/design.md; full weight tensors eta_12 = eta, xi_12 = xi, since with the
 paper's eta_12 = xi_12 = 0 shear and twist cost nothing and a curling strip
 may shear into a helix at zero energy):
 
@@ -21,7 +21,7 @@ may shear into a helix at zero energy):
    one-sided theory, order at least 3 (window 2.7 to 6).
 2. *Cantilever elastica.* The same strip, L = 10, no rest curvature, under a
    dead transverse tip load P with P L^2 / EI = 4, EI = 2 xi W (the bending
-   constant of the variational model, DESIGN.md table). Reference: the
+   constant of the variational model, docs/design.md, "Three readings of the model"). Reference: the
    elastica ``EI theta'' = -P cos(theta)`` (eta = 1e3 keeps the axial strain at 1e-5), theta(0) = 0, theta'(L) = 0, by
    scipy's collocation (tip -u/L = 0.32894, w/L = 0.66996 in the literature).
 3. *Scenes far above the paper's xi limit.* The ``curtain`` and ``flag``
@@ -48,9 +48,9 @@ from scipy.integrate import solve_bvp
 
 import deformable as dm
 from deformable import scenes
-from validation.backends import make_model
-from validation.orders import fit_order, pairwise_orders
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, order_check, register
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order, pairwise_orders
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 STRIP = dict(L=1.0, W=0.2, eta=100.0, xi=1.0, width_nodes=5)
 KAPPAS = (2.0, -2.0)
@@ -114,9 +114,9 @@ def run_case(case: Case) -> dict:
     if case.kind == "scene":
         cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), xi=SCENE_XI, force_model=case.force_model)
         model = make_model(scenes.build(cfg), case.backend)
-        dt = case.dt if case.force_model == "variational" else min(cfg.dt, 0.5 * model.step_factor * cfg.bound())
+        dt = case.dt if case.force_model == "variational" else min(cfg.dt, 0.5 * model.stable_step())
         stepper = dm.TimeStepper(model, dt=dt)
-        stepper_log = logging.getLogger("deformable.stepper")
+        stepper_log = logging.getLogger("deformable.dynamics.stepper")
         level = stepper_log.level
         stepper_log.setLevel(logging.ERROR)  # tpbf87 is expected to diverge here; the table says so
         try:
@@ -131,7 +131,7 @@ def run_case(case: Case) -> dict:
         model = make(strip_scene(case.nodes, case.kappa), case.backend)
         X, history = dm.equilibrium(model, model.initial_state())
         tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
-        return {"h": model.h1, "tip": tip.tolist(), "error": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
+        return {"h": model.spacing[0], "tip": tip.tolist(), "error": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
                 "iterations": len(history) - 1}
     if case.kind == "relax":
         model = make(strip_scene(case.nodes, case.kappa, gamma=8.0), "fd")
@@ -152,13 +152,13 @@ def run_case(case: Case) -> dict:
         model = make(scene, case.backend)
         X, history = dm.equilibrium(model, model.initial_state())
         tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
-        return {"h": model.h1, "u": float((p["L"] - tip[0]) / p["L"]), "w": float(-tip[2] / p["L"]),
+        return {"h": model.spacing[0], "u": float((p["L"] - tip[0]) / p["L"]), "w": float(-tip[2] / p["L"]),
                 "iterations": len(history) - 1}
     # tpbf87: the paper's force on the same strip, from flat plus a 1e-6 bump, damped
     model = make(strip_scene(case.nodes, case.kappa, force_model="tpbf87", gamma=8.0), "fd")
     X0 = model.initial_state()
-    X0[:, 2] += 1e-6 * np.sin(np.pi * model.a1 / STRIP["L"]).ravel()
-    stepper_log = logging.getLogger("deformable.stepper")
+    X0[:, 2] += 1e-6 * np.sin(np.pi * model.points[0] / STRIP["L"]).ravel()
+    stepper_log = logging.getLogger("deformable.dynamics.stepper")
     level = stepper_log.level
     stepper_log.setLevel(logging.ERROR)  # divergence is the expected outcome here, reported in the table
     try:
@@ -170,13 +170,8 @@ def run_case(case: Case) -> dict:
             "max_z": float(np.max(np.abs(model.grid(result.state.X)[..., 2])))}
 
 
-@register("variational", Levels(quick=3, full=5, minimum=3, maximum=6),
-          "the exact gradient of eq. (13): curling strip, cantilever elastica, and the paper's force beside it")
-def study(levels: int, *, runner=None) -> StudyResult:
+def fill(res, levels: int, runner) -> None:
     """Run the variational study over ``levels`` levels (11, 21, 41, ... nodes along the strip)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     grids = {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")}
     sizes = grids["fd"]
     mid = sizes[min(1, levels - 1)]
@@ -187,7 +182,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
              + [Case("scene", SCENE_NODES[b], dt=5e-3, backend=b, scene=name, force_model=fm)
                 for name in ("curtain", "flag") for b in ("fd", "fe") for fm in ("variational", "tpbf87")])
     raw = dict(zip(cases, runner.map(run_case, cases, desc="variational")))
-    res = StudyResult("variational", "The exact gradient of eq. (13) against the paper's force (14)", config={
+    res.config.update({
         "strip": STRIP, "kappas": list(KAPPAS), "elastica": ELASTICA, "nodes_along": grids,
         "fd_weighting": "control-area (strip and elastica)",
         "scenes": {"xi": SCENE_XI, "t_end": SCENE_T, "nodes": SCENE_NODES, "variational_dt": 5e-3,
@@ -301,4 +296,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
     res.figures.append(Figure("variational", "Tip errors of the variational model against closed forms",
                               (Panel("Curling strip and elastica", "node spacing h along the "
                                      "strip (m)", "max tip error (m; elastica: / L)", tuple(lines), (1.0, 3.0)),)))
-    return res
+
+
+STUDY = Study('variational', "the exact gradient of eq. (13): curling strip, cantilever elastica, and the paper's force beside it",
+              Levels(quick=3, full=5, minimum=3, maximum=6), fill)

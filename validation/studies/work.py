@@ -21,11 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from fdmodel import FDModel
-from femodel.model import FEModel
-from validation import surfaces as sf
-from validation.orders import fit_order
-from validation.study import Figure, Levels, Line, Panel, StudyResult, Table, nodes_at, register
+from validation.harness import surfaces as sf
+from validation.harness.backends import make_model
+from validation.harness.orders import fit_order
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at
 
 COARSEST = {"fd": 9, "fe": 5}
 SURFACE = "monge"
@@ -43,30 +42,20 @@ def run_case(case: Case) -> dict:
     for _ in range(3):
         t0 = time.process_time()
         sc = dm.Scene(dm.Sheet(size=s.size, nodes=(case.nodes, case.nodes), rest=s), dm.Material(eta=1.0, xi=1.0))
-        if case.backend == "fd":
-            model = FDModel(sc)
-            _, B = model.tensors(model.initial_state())
-        else:
-            model = FEModel(sc)
-            _, B = model.tensors(model.initial_state())
+        model = make_model(sc, case.backend)
+        _, B = model.tensors(model.initial_state())
         best = min(best, time.process_time() - t0)
-    if case.backend == "fd":
-        err = np.abs(B - s.B(model.a1, model.a2))[:, :, 1:-1, 1:-1].max()
-    else:
-        err = np.abs(B - s.B(model.a1q, model.a2q)).max()
-    return {"h": model.h1, "cpu": max(best, 1e-6), "error": float(err)}
+    err = np.abs(B - s.B(*model.points))
+    if case.backend == "fd":  # interior nodes: the boundary rows are one-sided
+        err = err[:, :, 1:-1, 1:-1]
+    return {"h": model.spacing[0], "cpu": max(best, 1e-6), "error": float(err.max())}
 
 
-@register("work", Levels(quick=4, full=6, minimum=3, maximum=7),
-          "work-precision: max error of B against CPU time, FD against FE (generic Monge patch)")
-def study(levels: int, *, runner=None) -> StudyResult:
+def fill(res, levels: int, runner) -> None:
     """Run the work study over ``levels`` grids (FD 9, 17, ...; FE 5, 9, ... nodes a side)."""
-    from validation.study import Runner
-
-    runner = runner or Runner()
     cases = [Case(b, nodes_at(k, COARSEST[b])) for b in ("fd", "fe") for k in range(levels)]
     raw = runner.map(run_case, cases, desc="work")
-    res = StudyResult("work", __doc__.split("\n")[0].split(": ", 1)[1], config={
+    res.config.update({
         "surface": SURFACE, "nodes": {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")},
         "timing": "process time of model build + discretisation + tensors, best of 3"})
     rows, lines = [], []
@@ -93,4 +82,7 @@ def study(levels: int, *, runner=None) -> StudyResult:
     res.figures.append(Figure("work_precision", "Work-precision: max error of B against CPU time",
                               (Panel(f"B on the {SURFACE} patch", "CPU time (s)", "max error of B (1/m)",
                                      tuple(lines), (-0.5, -1.0), "t"),)))
-    return res
+
+
+STUDY = Study('work', 'work-precision: max error of B against CPU time, FD against FE (generic Monge patch)',
+              Levels(quick=4, full=6, minimum=3, maximum=7), fill)

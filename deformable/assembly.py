@@ -1,0 +1,237 @@
+r"""Sparse matrices on fixed patterns: built once, refilled every step.
+
+Every matrix the time stepper factorises (the strength matrix K(r) of
+eq. (20), the step matrix A_t of eq. (25), the Hessians of the energy (13))
+keeps its sparsity pattern for a whole run while its values change. The
+pattern, and where each contribution lands in the data array, is therefore
+computed once from the contributions' coordinates (:class:`FixedPattern`);
+afterwards a refill is one gather or one sparse mat-vec, never a sparse-sparse
+product or a slice.
+
+- :class:`FixedPattern`: the CSR pattern of a list of (row, column)
+  contributions and the slot of each in the data array;
+- :class:`SymmetricElements`: element (or stencil) matrices of a symmetric
+  operator, each given by its upper triangle, summed into a FixedPattern; with
+  constant element tables (a uniform grid) the data of any coefficient field
+  is one dense product and one scatter;
+- :class:`ReducedSystem`: ``A = K + c_m M + c_c C`` on the union of the three
+  patterns, split into its free-free and free-held blocks by precomputed
+  gathers (the constraints of a scene eliminate the held degrees of freedom).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["FixedPattern", "SymmetricElements", "ReducedSystem", "canonical", "element_vectors"]
+
+
+def canonical(A) -> sp.csr_matrix:
+    """A as CSR with sorted indices and no duplicates."""
+    A = sp.csr_matrix(A)
+    A.sum_duplicates()
+    A.sort_indices()
+    return A
+
+
+def coordinates(A: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column of every stored entry of a CSR matrix."""
+    rows = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr))
+    return rows, A.indices.astype(np.int64)
+
+
+class FixedPattern:
+    """The CSR pattern of a set of contributions (rows[k], cols[k]) to an (n, m) matrix.
+
+    Attributes
+    ----------
+    indptr, indices : int32 arrays
+        The canonical CSR pattern (sorted, one entry per distinct coordinate).
+    nnz : int
+    slot : int array (contributions,)
+        Position in the data array that contribution k adds to.
+
+    Notes
+    -----
+    :meth:`matrix` hands back csr_matrices that share ``indptr`` and
+    ``indices``, so a caller can check that the pattern did not change by identity.
+    """
+
+    def __init__(self, rows, cols, shape: tuple[int, int]):
+        rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
+        self.shape = tuple(shape)
+        ukeys, self.slot = np.unique(rows * shape[1] + cols, return_inverse=True)
+        self.slot = self.slot.ravel()
+        self.indices = (ukeys % shape[1]).astype(np.int32)
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(ukeys // shape[1], minlength=shape[0]))]
+                                     ).astype(np.int32)
+        self.nnz = int(ukeys.size)
+        self._scatter = None
+
+    @property
+    def scatter(self) -> sp.csr_matrix:
+        """(nnz, contributions) 0/1 matrix: ``scatter @ values`` is the data array."""
+        if self._scatter is None:
+            k = self.slot.size
+            self._scatter = sp.csr_matrix((np.ones(k), (self.slot, np.arange(k))), shape=(self.nnz, k))
+        return self._scatter
+
+    def data(self, values: np.ndarray) -> np.ndarray:
+        """The data array of the sum of the contributions with these values, (nnz,)."""
+        return np.bincount(self.slot, weights=values, minlength=self.nnz)
+
+    def matrix(self, data: np.ndarray) -> sp.csr_matrix:
+        """The csr_matrix with this data on the fixed pattern (canonical: sorted, no duplicates)."""
+        A = sp.csr_matrix((data, self.indices, self.indptr), shape=self.shape, copy=False)
+        A.indices, A.indptr = self.indices, self.indptr  # scipy may hand back views; keep the very arrays
+        A.has_canonical_format = True
+        return A
+
+
+class SymmetricElements:
+    """Symmetric element matrices, each given by its upper triangle, summed on a fixed pattern.
+
+    Parameters
+    ----------
+    ldofs : int array (E, nl)
+        Global degrees of freedom of every element's nl local ones (FE: the 16
+        of a bicubic element; for a coordinate-blocked Hessian, 3 x 16).
+    ndof : int
+        Matrix size.
+
+    Attributes
+    ----------
+    pattern : FixedPattern
+    upper : (int array, int array)
+        The local (l <= m) pairs, nl (nl + 1) / 2 of them.
+    scatter : sparse (nnz, E nupper)
+        Sums the elements' upper triangles (and their mirror images) into the data array.
+    """
+
+    def __init__(self, ldofs: np.ndarray, ndof: int):
+        E, nl = ldofs.shape
+        self.ndof, self.nelem = ndof, E
+        self.upper = np.triu_indices(nl)
+        lu, mu = self.upper
+        ne = lu.size
+        rows, cols = ldofs[:, lu], ldofs[:, mu]
+        off = lu != mu
+        self.pattern = FixedPattern(np.concatenate([rows.ravel(), cols[:, off].ravel()]),
+                                    np.concatenate([cols.ravel(), rows[:, off].ravel()]), (ndof, ndof))
+        src = np.arange(E * ne).reshape(E, ne)
+        src = np.concatenate([src.ravel(), src[:, off].ravel()])
+        self.scatter = sp.csr_matrix((np.ones(src.size), (self.pattern.slot, src)), shape=(self.pattern.nnz, E * ne))
+
+    @property
+    def nnz(self) -> int:
+        return self.pattern.nnz
+
+    def templates(self, integrand: np.ndarray, weights: np.ndarray) -> np.ndarray:
+        """Upper-triangle tables of a form times the quadrature weights.
+
+        Parameters
+        ----------
+        integrand : array (C, nq, nl, nl)
+            A form's integrand per unit coefficient.
+        weights : array (nq,)
+            Quadrature weights (times the element area, scene units^2).
+
+        Returns
+        -------
+        array (C nq, nupper)
+        """
+        T = integrand * weights[None, :, None, None]
+        return T[:, :, self.upper[0], self.upper[1]].reshape(-1, self.upper[0].size)
+
+    def data(self, coefficients: np.ndarray, templates: np.ndarray) -> np.ndarray:
+        """Data array of sum_e K_e for coefficients (E, C nq) (coefficient-major, then points)."""
+        return self.scatter @ (coefficients @ templates).ravel()
+
+    def collect(self, upper: np.ndarray) -> np.ndarray:
+        """Data array of the element matrices given by their upper triangles (E, nupper)."""
+        return self.scatter @ upper.ravel()
+
+    def matrix(self, data: np.ndarray) -> sp.csr_matrix:
+        return self.pattern.matrix(data)
+
+
+def element_vectors(ldofs: np.ndarray, ndof: int) -> sp.csr_matrix:
+    """(ndof, E nl) 0/1 matrix summing element vectors (E, nl, ...) flattened into the global vector."""
+    E, nl = ldofs.shape
+    return sp.csr_matrix((np.ones(E * nl), (ldofs.ravel(), np.arange(E * nl))), shape=(ndof, E * nl))
+
+
+class ReducedSystem:
+    """A = K + c_m M + c_c C on a fixed pattern, split into free/held blocks.
+
+    Built once from the patterns of K, M and C; afterwards each refill only
+    gathers data arrays (no sparse-sparse products, no slicing).
+
+    Parameters
+    ----------
+    K, M, C : sparse (n, n)
+        K's pattern must stay the same between refills (:meth:`data` checks it).
+    cm, cc : float
+        Multipliers of M and C.
+    fixed_sets : list of int arrays
+        One block split per set of held degrees of freedom.
+    """
+
+    def __init__(self, K, M, C, cm: float, cc: float, fixed_sets):
+        n = K.shape[0]
+        self.n = n
+        K, M, C = canonical(K), canonical(M), canonical(C)
+        parts = [coordinates(A) for A in (K, M, C)]
+        self.pattern = FixedPattern(np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
+                                    (n, n))
+        self.rows, self.cols = coordinates(self.pattern.matrix(np.zeros(self.pattern.nnz)))
+        slots = np.split(self.pattern.slot, np.cumsum([K.nnz, M.nnz]))
+        self.idxK = slots[0]
+        self.K_pattern = (K.indptr, K.indices)
+        self.base = self.pattern.data(np.concatenate([np.zeros(K.nnz), cm * M.data, cc * C.data]))
+        self.blocks = [self._block(np.asarray(f, dtype=np.int64)) for f in fixed_sets]
+
+    def _block(self, fixed):
+        n = self.n
+        isfree = np.ones(n, bool)
+        isfree[fixed] = False
+        free = np.flatnonzero(isfree)
+        new = np.cumsum(isfree) - 1
+        newfix = np.cumsum(~isfree) - 1
+        r, c = self.rows, self.cols
+        ff = np.flatnonzero(isfree[r] & isfree[c])
+        rr, cc = new[r[ff]], new[c[ff]]
+        order = np.lexsort((rr, cc))  # column-major for CSC
+        gather_ff = ff[order]
+        nf = free.size
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(cc[order], minlength=nf))])
+        fc = np.flatnonzero(isfree[r] & ~isfree[c])
+        return dict(
+            free=free,
+            fixed=fixed,
+            gather_ff=gather_ff,
+            indices=rr[order].astype(np.int32),
+            indptr=indptr.astype(np.int32),
+            gather_fc=fc,
+            fc_rows=new[r[fc]],
+            fc_cols=newfix[c[fc]],
+            shape_fc=(nf, fixed.size),
+        )
+
+    def data(self, K) -> np.ndarray:
+        """The data of A for this K (same pattern as the K the system was built with)."""
+        if not (np.array_equal(K.indptr, self.K_pattern[0]) and np.array_equal(K.indices, self.K_pattern[1])):
+            raise ValueError("the backend changed the sparsity pattern of K between steps")
+        A = self.base.copy()
+        A[self.idxK] += K.data
+        return A
+
+    def matrices(self, A: np.ndarray, block):
+        """The free-free block (CSC) and the free-held block (CSR) of A's data for one block split."""
+        nf = block["free"].size
+        Aff = sp.csc_matrix((A[block["gather_ff"]], block["indices"], block["indptr"]), shape=(nf, nf))
+        Afc = sp.csr_matrix(
+            (A[block["gather_fc"]], (block["fc_rows"], block["fc_cols"])), shape=block["shape_fc"]
+        )
+        return Aff, Afc

@@ -1,0 +1,116 @@
+r"""The paper's semi-implicit step of the semi-discrete system (21), eq. (22)-(27).
+
+    A_t R_{t+dt} = G_t,                                           (24)
+    A_t = K(r_t) + M/dt^2 + C/(2 dt),                             (25)
+    G_t = F_t + (M/dt^2 + C/(2 dt)) R_t + (M/dt - C/2) V_t,       (26)
+    V_t = (R_t - R_{t-dt})/dt.                                    (27)
+
+The stiffness is lagged (evaluated at r_t) and the force at t, so each step
+is one linear solve. Written once over the :class:`~deformable.backend.Backend`
+contract; backends differ only in space.
+
+Numerics (docs/design.md): for one undamped linear mode of frequency w the
+amplification per step is ``(1 + w^2 dt^2)^(-1/2)`` and the phase advance
+``atan(w dt)``: first order in time, numerically damped. Lagging alpha makes
+the step only conditionally stable on stretching: dt below the backend's
+:meth:`~deformable.backend.Backend.stable_step` (FD: about ``h sqrt(mu / (2 eta G))``).
+
+Cost: K(r) keeps its sparsity pattern, so A_t lives on one fixed pattern
+whose data is refilled each step (:class:`deformable.assembly.ReducedSystem`);
+constrained degrees of freedom are eliminated through precomputed gathers;
+each group of coordinates that shares its constraints is factorised once per
+step and solved for all its right-hand sides together. When the model is
+linear (the "frozen" force model) the factorisation is done once for the run.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from ..assembly import ReducedSystem
+from .state import DivergenceError, State
+
+__all__ = ["SemiImplicit", "SPLU_OPTIONS"]
+
+#: SuperLU options of the step's factorisation: A_t is symmetric, so a symmetric
+#: ordering (minimum degree on A^T + A) and diagonal pivots
+SPLU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True), diag_pivot_thresh=0.0)
+
+
+class SemiImplicit:
+    """Steps of eq. (22)-(27) for a model with a strength matrix (force models tpbf87 and frozen).
+
+    Parameters
+    ----------
+    model : Backend
+    dt : float
+        Time step (s).
+
+    Attributes
+    ----------
+    timings : dict
+        Seconds spent in "assembly" (K(r) and A_t), "factorisation" and "solve".
+    """
+
+    name = "semi-implicit"
+
+    def __init__(self, model, dt: float):
+        self.model, self.dt = model, dt
+        self.timings = {"assembly": 0.0, "factorisation": 0.0, "solve": 0.0}
+        M, C = model.mass(), model.damping()
+        self._B1 = (M / dt**2 + C / (2 * dt)).tocsr()  # multiplies R_t in (26)
+        self._B2 = (M / dt - C / 2).tocsr()  # multiplies V_t in (26)
+        # components that share their constraints share one factorisation
+        groups: dict[bytes, list[int]] = {}
+        sets: dict[bytes, np.ndarray] = {}
+        for c, f in enumerate(model.fixed_dofs()):
+            f = np.unique(np.asarray(f, dtype=np.int64))
+            groups.setdefault(f.tobytes(), []).append(c)
+            sets[f.tobytes()] = f
+        self._groups = [(sets[k], comps) for k, comps in groups.items()]
+        self._system = None
+        self._lu_cache = None
+
+    def _factorise(self, X):
+        model = self.model
+        if self._lu_cache is not None:
+            return self._lu_cache
+        t0 = time.perf_counter()
+        K = model.stiffness(X)
+        if self._system is None:
+            self._system = ReducedSystem(
+                K, model.mass(), model.damping(), 1 / self.dt**2, 1 / (2 * self.dt), [f for f, _ in self._groups]
+            )
+        A = self._system.data(K)
+        t1 = time.perf_counter()
+        factors = []
+        for block in self._system.blocks:
+            Aff, Afc = self._system.matrices(A, block)
+            factors.append((block, spla.splu(Aff, **SPLU_OPTIONS), Afc))
+        t2 = time.perf_counter()
+        self.timings["assembly"] += t1 - t0
+        self.timings["factorisation"] += t2 - t1
+        if model.linear:
+            self._lu_cache = factors
+        return factors
+
+    def step(self, state: State, X0: np.ndarray) -> State:
+        """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference."""
+        dt, model = self.dt, self.model
+        factors = self._factorise(state.X)
+        t0 = time.perf_counter()
+        G = model.load(state.X, state.t) + self._B1 @ state.X + self._B2 @ state.V
+        Xn = np.array(model.prescribed(X0, state.t + dt), dtype=float)
+        for (block, lu, Afc), (_, comps) in zip(factors, self._groups):
+            free, fixed = block["free"], block["fixed"]
+            rhs = G[np.ix_(free, comps)] - Afc @ Xn[np.ix_(fixed, comps)]
+            Xn[np.ix_(free, comps)] = lu.solve(rhs)
+        self.timings["solve"] += time.perf_counter() - t0
+        if not np.all(np.isfinite(Xn)):
+            raise DivergenceError(
+                f"diverged at step {state.step + 1} (t = {state.t + dt:.6g} s): non-finite positions", state
+            )
+        return State(t=state.t + dt, X=Xn, V=(Xn - state.X) / dt, step=state.step + 1)

@@ -1,0 +1,43 @@
+r"""What a run produces: states, the outcome of a run, and the error of a diverging step."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["State", "RunResult", "DivergenceError"]
+
+
+@dataclass(frozen=True)
+class State:
+    """A point of the trajectory: time t (s), positions X and velocities V, (ndof, 3), and the step number."""
+
+    t: float
+    X: np.ndarray
+    V: np.ndarray
+    step: int = 0
+
+
+class DivergenceError(RuntimeError):
+    """The run left the range of finite numbers or a tracker's bound; ``state`` is the last good one."""
+
+    def __init__(self, message: str, state: State):
+        super().__init__(message)
+        self.state = state
+
+
+@dataclass
+class RunResult:
+    """Outcome of :meth:`deformable.TimeStepper.run`.
+
+    ``state`` is the last good state; ``status`` is "finished", "stopped" (a
+    tracker asked to stop) or "diverged"; ``message`` says why.
+    """
+
+    state: State
+    status: str
+    message: str
+    steps: int
+    wall_time: float
+    trackers: list = field(default_factory=list)

@@ -1,0 +1,148 @@
+r"""Pictures of a run: PNG frames and a GIF, rendered offscreen with pyvista.
+
+The frames are rendered from the XDMF time series that
+:mod:`deformable.output.series` writes (positions = mesh points + the point field
+``displacement``), so a run that was killed or diverged can still be drawn.
+The camera is fixed for the whole series and frames the union of the sheet's
+bounding boxes over all frames; the colour range of the chosen field is fixed
+over the series too, so frames compare.
+
+Headless machines: VTK falls back from an X window to EGL when no display is
+there, and logs a warning first; choosing EGL up front
+(``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow``) avoids the warning. No
+Xvfb is needed where EGL works (it does on the project's machines).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["render_series", "render_frame", "FIELDS"]
+
+log = logging.getLogger(__name__)
+
+#: point fields that can colour the sheet (written by deformable.output.series)
+FIELDS = ("speed", "energy_density", "G11", "G12", "G22", "B11", "B12", "B22", "x", "y", "z")
+_AXIS = {"x": 0, "y": 1, "z": 2}
+
+
+def _pyvista():
+    if not os.environ.get("DISPLAY"):
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+    return pyvista
+
+
+def _faces(cells: np.ndarray) -> np.ndarray:
+    """pyvista face array [4, i, j, k, l, ...] from (n, 4) quads."""
+    cells = np.asarray(cells, dtype=np.int64)
+    return np.hstack([np.full((cells.shape[0], 1), cells.shape[1]), cells]).ravel()
+
+
+def _camera(bounds: np.ndarray):
+    """A camera position (position, focal point, view up) framing an axis-aligned box.
+
+    ``bounds`` is (2, 3): min and max corners. The view looks from the front-right,
+    slightly above, with z up.
+    """
+    lo, hi = bounds
+    centre = 0.5 * (lo + hi)
+    radius = 0.5 * float(np.linalg.norm(hi - lo)) or 1.0
+    direction = np.array([0.8, -1.0, 0.6])
+    direction /= np.linalg.norm(direction)
+    distance = radius / np.tan(np.radians(30.0) / 2) * 1.05  # view angle 30 degrees
+    return [tuple(centre + distance * direction), tuple(centre), (0.0, 0.0, 1.0)]
+
+
+def render_frame(plotter, points, faces, values, field, clim, title):
+    """Draw one frame into ``plotter`` (cleared first)."""
+    pv = _pyvista()
+    plotter.clear()
+    mesh = pv.PolyData(points, faces)
+    mesh[field] = values
+    plotter.add_mesh(mesh, scalars=field, clim=clim, cmap="viridis", smooth_shading=True, show_edges=False,
+                     scalar_bar_args=dict(title=field, vertical=False, position_x=0.25, position_y=0.03,
+                                          width=0.5, height=0.06, title_font_size=14, label_font_size=12))
+    plotter.add_text(title, position="upper_left", font_size=10)
+
+
+def read_series(xdmf):
+    """Frames of an XDMF series: cells (n, 4), then a list of (t, points (P, 3), point_data)."""
+    import meshio
+
+    frames = []
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as reader:
+        points, cells = reader.read_points_cells()
+        for k in range(reader.num_steps):
+            t, data, _ = reader.read_data(k)
+            frames.append((t, points + data["displacement"], data))
+    return cells[0].data, frames
+
+
+def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: bool = True, title: str = "",
+                  fps: float = 12.0, max_frames: int | None = None) -> list[Path]:
+    """Render every frame of an XDMF series to PNG (and a GIF of them).
+
+    Parameters
+    ----------
+    xdmf : path of the series written by :class:`deformable.output.XDMFWriter`
+    out_dir : folder for ``frame-00000.png`` ... and ``<stem>.gif``
+    field : point field to colour by (one of :data:`FIELDS`; ``x``, ``y``, ``z`` are positions)
+    size : window size in pixels (width, height)
+    gif : also assemble the frames into a GIF (Pillow)
+    title : text drawn in the corner, followed by the frame's time
+    max_frames : render at most this many frames, evenly spread (all by default)
+
+    Returns
+    -------
+    list of Path
+        The PNG files written (and the GIF last, if made).
+    """
+    if field not in FIELDS:
+        raise ValueError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
+    pv = _pyvista()
+    cells, frames = read_series(xdmf)
+    if not frames:
+        log.warning("no frames in %s: nothing to render", xdmf)
+        return []
+    if max_frames is not None and len(frames) > max_frames:
+        pick = np.unique(np.linspace(0, len(frames) - 1, max_frames).round().astype(int))
+        frames = [frames[i] for i in pick]
+    faces = _faces(cells)
+    values = [f[1][:, _AXIS[field]] if field in _AXIS else f[2][field] for f in frames]
+    allv = np.concatenate([np.ravel(v) for v in values])
+    allv = allv[np.isfinite(allv)]
+    clim = (float(allv.min()), float(allv.max())) if allv.size else (0.0, 1.0)
+    if clim[1] <= clim[0]:
+        clim = (clim[0] - 0.5, clim[0] + 0.5)
+    pts = np.concatenate([f[1] for f in frames])
+    bounds = np.array([pts.min(axis=0), pts.max(axis=0)])
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    plotter = pv.Plotter(off_screen=True, window_size=list(size))
+    plotter.set_background("white")
+    written = []
+    try:
+        for k, ((t, points, _), v) in enumerate(zip(frames, values)):
+            render_frame(plotter, points, faces, np.ravel(v), field, clim, f"{title}  t = {t:.3f} s".strip())
+            plotter.camera_position = _camera(bounds)
+            png = out_dir / f"frame-{k:05d}.png"
+            plotter.screenshot(str(png))
+            written.append(png)
+    finally:
+        plotter.close()
+    if gif and written:
+        from PIL import Image
+
+        images = [Image.open(p).convert("P", palette=Image.ADAPTIVE, colors=128) for p in written]
+        gif_path = out_dir / f"{Path(xdmf).stem}.gif"
+        images[0].save(gif_path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+        written.append(gif_path)
+    log.info("rendered %d frames of %s to %s", len(frames), xdmf, out_dir)
+    return written

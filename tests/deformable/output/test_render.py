@@ -1,0 +1,35 @@
+"""Rendered frames (deformable.output.render): PNG frames and a GIF of a series, offscreen."""
+
+import pytest
+
+import deformable as dm
+from deformable.output import XDMFWriter
+from deformable.output.render import FIELDS, render_series
+from validation.harness.backends import make_model
+
+
+@pytest.fixture(scope="module")
+def series(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("series")
+    model = make_model(dm.Scene(dm.Sheet(nodes=(6, 6)), dm.Material(mu=0.1, eta=50.0), forces=[dm.Gravity()],
+                                constraints=[dm.Pin("top")]), "fd")
+    dm.TimeStepper(model, 1e-3).run(model.initial_state(), steps=6,
+                                    trackers=[XDMFWriter(folder / "sheet.xdmf", every=2)])
+    return folder / "sheet.xdmf"
+
+
+def test_every_frame_becomes_a_png_and_the_gif_comes_last(series, tmp_path):
+    written = render_series(series, tmp_path / "frames", field="energy_density", size=(160, 120), title="sheet")
+    pngs, gif = written[:-1], written[-1]
+    assert [p.name for p in pngs] == [f"frame-{k:05d}.png" for k in range(4)]
+    assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in pngs)
+    assert gif.name == "sheet.gif" and gif.stat().st_size > 0
+    fewer = render_series(series, tmp_path / "few", field="z", size=(160, 120), gif=False, max_frames=2)
+    assert len(fewer) == 2
+
+
+def test_an_unknown_field_is_refused_before_any_work(series, tmp_path):
+    with pytest.raises(ValueError, match="unknown field 'colour'"):
+        render_series(series, tmp_path / "none", field="colour")
+    assert not (tmp_path / "none").exists()
+    assert {"speed", "energy_density", "x", "y", "z"} <= set(FIELDS)

@@ -1,0 +1,179 @@
+"""``deformable run``: XDMF output read back, checkpoints and resume, divergence, bad input."""
+
+import meshio
+import numpy as np
+import pytest
+
+from deformable import scenes
+from deformable.output import load_checkpoint
+from validation.commands import build_parser, main
+from validation.commands.run import prepare, simulate
+from validation.harness.backends import make_model
+
+FIELDS = {"G11", "G12", "G22", "B11", "B12", "B22", "speed", "energy_density", "displacement"}
+
+
+def _run(argv, capsys):
+    code = main(["run", *argv])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
+    code, out, err = _run(["flag", "--grid", "12x10", "--steps", "30", "--every", "10", "--out", str(tmp_path)],
+                          capsys)
+    assert code == 0, err
+    assert "flag: finished, 30 steps to t = 0.03 s" in out and "energy" in out
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "flag.xdmf")) as reader:
+        points, cells = reader.read_points_cells()
+        assert points.shape == (120, 3) and cells[0].type == "quad" and len(cells[0].data) == 11 * 9
+        times = []
+        for k in range(reader.num_steps):
+            t, data, _ = reader.read_data(k)
+            times.append(t)
+            assert FIELDS <= set(data) and all(np.all(np.isfinite(v)) for v in data.values())
+    assert times == pytest.approx([0.0, 0.01, 0.02, 0.03], abs=1e-12)
+    assert np.abs(data["displacement"]).max() > 0 and data["speed"].max() > 0
+    assert (tmp_path / "flag.toml").read_text().startswith("# resolved scene config")
+
+
+def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, capsys):
+    scene = tmp_path / "mine.toml"
+    scene.write_text('scene = "curtain"\neta = 25.0\nnodes = [10, 12]\n')
+    out_dir = tmp_path / "out"
+    code, _, err = _run([str(scene), "--steps", "5", "--dt", "5e-4", "--out", str(out_dir)], capsys)
+    assert code == 0, err
+    text = (out_dir / "curtain.toml").read_text()
+    assert "eta = 25.0" in text and "nodes = [10, 12]" in text and "dt = 0.0005" in text
+
+
+def test_render_writes_pngs_and_a_gif(tmp_path, capsys):
+    """The frames themselves are checked in tests/deformable/output/test_render.py."""
+    code, out, err = _run(["hanging", "--grid", "8x8", "--steps", "4", "--every", "2", "--render", "--field",
+                           "energy_density", "--out", str(tmp_path)], capsys)
+    assert code == 0, err
+    pngs = sorted((tmp_path / "frames").glob("frame-*.png"))
+    assert len(pngs) == 3 and (tmp_path / "frames" / "hanging.gif").stat().st_size > 0
+    assert "rendered 3 frames" in out
+
+
+def test_a_resumed_run_is_bit_identical(tmp_path, capsys):
+    full, part = tmp_path / "full", tmp_path / "part"
+    base = ["curtain", "--grid", "10x12", "--steps", "40", "--checkpoint-every", "20"]
+    assert _run(base + ["--out", str(full)], capsys)[0] == 0
+    code, _, err = _run(base + ["--out", str(part), "--resume", str(full / "curtain-checkpoint-0000020.npz")], capsys)
+    assert code == 0, err
+    a = load_checkpoint(full / "curtain-checkpoint-0000040.npz")
+    b = load_checkpoint(part / "curtain-checkpoint-0000040.npz")
+    assert a["step"] == b["step"] == 40 and a["t"] == b["t"]
+    np.testing.assert_array_equal(a["X"], b["X"])
+    np.testing.assert_array_equal(a["V"], b["V"])
+
+
+def test_a_diverging_run_stops_keeps_its_frames_and_checkpoints_the_last_good_state(tmp_path, capsys):
+    # dt far beyond the stretching bound h sqrt(mu / (2 eta G)) (docs/design.md, "Findings")
+    code, out, err = _run(["hanging", "--grid", "12x12", "--dt", "0.02", "--steps", "200", "--every", "1",
+                           "--out", str(tmp_path)], capsys)
+    assert code == 1
+    assert "diverged at step" in err and len(err.strip().splitlines()) == 1
+    ck = load_checkpoint(tmp_path / "hanging-diverged.npz")
+    assert np.all(np.isfinite(ck["X"])) and 0 < ck["step"] < 200
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "hanging.xdmf")) as reader:
+        reader.read_points_cells()
+        assert reader.num_steps == ck["step"] + 1  # every frame up to the last good state
+        t, _, _ = reader.read_data(reader.num_steps - 1)
+    assert t == pytest.approx(ck["t"])
+
+
+def test_the_run_api_reports_divergence_with_the_last_good_state(tmp_path):
+    args = build_parser().parse_args(["run", "hanging", "--grid", "12x12", "--dt", "0.02", "--steps", "200",
+                                      "--out", str(tmp_path)])
+    result, writer, energy, written = simulate(prepare(args))
+    assert result.status == "diverged" and np.all(np.isfinite(result.state.X))
+    assert written[-1].name == "hanging-diverged.npz" and writer.frames >= 1
+    assert energy.history[-1, 0] <= result.state.t
+
+
+@pytest.fixture(scope="module")
+def flag_checkpoint(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("ck")
+    assert main(["run", "flag", "--grid", "10x10", "--steps", "2", "--checkpoint-every", "1",
+                 "--out", str(folder)]) == 0
+    return folder / "flag-checkpoint-0000001.npz"
+
+
+def _bad_cases(tmp_path, ck):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    toml = tmp_path / "bad.toml"
+    toml.write_text('scene = "flag"\nwindd = 3.0\n')
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"not a checkpoint")
+    return {
+        "unknown scene": (["drape"], "unknown scene 'drape'"),
+        "unknown TOML key": ([str(toml)], "unknown key 'windd'"),
+        "malformed grid": (["flag", "--grid", "32by32"], "malformed grid '32by32'"),
+        "tiny grid": (["flag", "--grid", "2x8"], "at least 3 nodes"),
+        "dt zero": (["flag", "--dt", "0"], "--dt must be positive"),
+        "dt negative": (["flag", "--dt=-1e-3"], "--dt must be positive"),
+        "dt text": (["flag", "--dt", "fast"], "--dt must be a positive number"),
+        "unwritable output": (["flag", "--out", str(blocker / "sub")], "cannot write to output folder"),
+        "unknown backend": (["flag", "--backend", "fv"], "unknown backend 'fv'"),
+        "unknown field": (["flag", "--field", "colour"], "unknown field 'colour'"),
+        "resume other scene": (["curtain", "--resume", str(ck)], "holds scene 'flag', not 'curtain'"),
+        "resume other grid": (["flag", "--grid", "12x12", "--resume", str(ck)], "has nodes = (10, 10)"),
+        "resume other dt": (["flag", "--dt", "5e-4", "--resume", str(ck)], "has dt = 0.001"),
+        "resume not a checkpoint": (["flag", "--resume", str(junk)], "cannot read checkpoint"),
+        "resume missing": (["flag", "--resume", str(tmp_path / "none.npz")], "cannot read checkpoint"),
+        "resume past the end": (["flag", "--steps", "1", "--resume", str(ck)], "nothing to do"),
+    }
+
+
+@pytest.mark.parametrize("case", ["unknown scene", "unknown TOML key", "malformed grid", "tiny grid", "dt zero",
+                                  "dt negative", "dt text", "unwritable output", "unknown backend", "unknown field",
+                                  "resume other scene", "resume other grid", "resume other dt",
+                                  "resume not a checkpoint", "resume missing", "resume past the end"])
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, tmp_path, capsys, flag_checkpoint):
+    argv, message = _bad_cases(tmp_path, flag_checkpoint)[case]
+    out_dir = tmp_path / "out"
+    if "--out" not in argv:
+        argv = argv + ["--out", str(out_dir)]
+    code, _, err = _run(argv, capsys)
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and message in err, err
+    assert "Traceback" not in err
+    assert not out_dir.exists() or not any(out_dir.iterdir())
+
+
+def test_force_model_option_runs_the_variational_model(tmp_path, capsys):
+    code, out, err = _run(["flag", "--force-model", "variational", "--grid", "6x6", "--steps", "3",
+                           "--out", str(tmp_path)], capsys)
+    assert code == 0, err
+    assert 'force_model = "variational"' in next(tmp_path.glob("*.toml")).read_text()
+
+
+def test_unknown_force_model_is_one_line(tmp_path, capsys):
+    code, out, err = _run(["flag", "--force-model", "tpbf88", "--out", str(tmp_path)], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "unknown force model 'tpbf88'" in err
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("scene", list(scenes.SCENES))
+def test_every_scene_runs_on_the_fe_backend_at_its_own_stable_step(scene, tmp_path, capsys):
+    """The scenes' default dt is FD's; the FE backend runs at no more than half its own stretching bound."""
+    code, out, err = _run([scene, "--backend", "fe", "--grid", "6x6", "--steps", "20", "--out", str(tmp_path)],
+                          capsys)
+    assert code == 0, err
+    assert f"{scene}: finished, 20 steps" in out and "6x6 fe" in out
+    assert list(tmp_path.glob("*.xdmf"))
+    cfg = scenes.read_toml(tmp_path / f"{scene}.toml")
+    assert cfg.dt <= 0.5 * make_model(scenes.build(cfg), "fe").stable_step()
+
+
+def test_the_fe_backend_picks_its_own_step_where_the_scenes_is_too_long(tmp_path, capsys):
+    code, out, err = _run(["hanging", "--backend", "fe", "--grid", "16x16", "--steps", "5", "--out", str(tmp_path)],
+                          capsys)
+    assert code == 0, err
+    cfg = scenes.read_toml(tmp_path / "hanging.toml")
+    bound = make_model(scenes.build(cfg), "fe").stable_step()
+    assert bound < scenes.config("hanging").dt and cfg.dt <= 0.5 * bound

@@ -1,0 +1,78 @@
+"""The report writer on a small synthetic result."""
+
+import csv
+import json
+
+import pytest
+
+from validation.harness.report import markdown_table, writable_folder, write_index, write_study
+from validation.harness.study import Figure, Line, Panel, StudyResult, Table
+
+
+def synthetic():
+    res = StudyResult("demo", "a synthetic study", config={"levels": 3})
+    res.check("order of something", "order 2", "p = 2.01", True)
+    res.check("another", "order 1", "p = 0.2", False)
+    res.check("third", "exact", "0", True)
+    res.tables.append(Table("numbers", "Some numbers", ("name", "h", "error"),
+                            [("a", 0.5, 1e-2), ("b", 0.25, 2.5e-3), ("c | pipe", 0.125, float("nan"))]))
+    res.figures.append(Figure("conv", "a convergence plot",
+                              (Panel("demo", "h (m)", "error (m)", (Line("e", (0.5, 0.25), (1e-2, 2.5e-3)),),
+                                     (2.0,)),)))
+    res.findings.append("something noted")
+    return res
+
+
+def test_files_exist_tables_parse_and_counts_are_right(tmp_path):
+    folder = write_study(synthetic(), tmp_path)
+    for name in ("summary.md", "results.json", "numbers.csv", "conv.png"):
+        assert (folder / name).is_file(), name
+    summary = (folder / "summary.md").read_text()
+    assert summary.rstrip().endswith("2 checks passed, 1 failed")
+    assert summary.count("| PASS |") == 2 and summary.count("| **FAIL** |") == 1
+    with (folder / "numbers.csv").open() as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ["name", "h", "error"] and len(rows) == 4
+    assert float(rows[2][2]) == 2.5e-3 and rows[3][2] == ""
+    data = json.loads((folder / "results.json").read_text())
+    assert data["passed"] == 2 and data["failed"] == 1 and data["config"] == {"levels": 3}
+    assert "numpy" in data["versions"] and data["tables"][0]["rows"][2][2] is None
+    assert 5_000 < (folder / "conv.png").stat().st_size < 200_000
+    index = write_index(tmp_path).read_text()
+    assert "[demo](demo/summary.md)" in index and "2 checks passed, 1 failed" in index
+
+
+def test_nothing_is_written_half_way(tmp_path):
+    res = synthetic()
+    write_study(res, tmp_path)
+    res.figures.append(Figure("broken", "a figure that cannot be drawn", ("not a panel",)))
+    res.checks.clear()
+    with pytest.raises(AttributeError):
+        write_study(res, tmp_path)
+    # the previous complete folder is untouched and no temporary folder is left behind
+    assert (tmp_path / "demo" / "summary.md").read_text().rstrip().endswith("2 checks passed, 1 failed")
+    assert [p.name for p in tmp_path.iterdir()] == ["demo"]
+
+
+def test_the_index_lists_studies_in_the_order_given(tmp_path):
+    for name in ("b", "a", "c"):
+        res = synthetic()
+        res.study = name
+        write_study(res, tmp_path)
+    (tmp_path / "not-a-study").mkdir()
+    index = write_index(tmp_path, order=("c", "b")).read_text()
+    assert index.index("[c]") < index.index("[b]") < index.index("[a]") and "not-a-study" not in index
+    assert "6 checks passed, 3 failed" in index
+
+
+def test_markdown_cells_are_rounded_and_escaped():
+    table = markdown_table(("x", "y"), [(0.000123456, "a | b"), (float("nan"), 3)])
+    assert table.splitlines() == ["| x | y |", "|---|---|", "| 1.23e-04 | a \\| b |", "|  | 3 |"]
+
+
+def test_an_unwritable_folder_is_a_value_error(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(ValueError, match="cannot write to output folder"):
+        writable_folder(blocker / "sub")
+    assert writable_folder(tmp_path / "new" / "sub").is_dir()

@@ -1,0 +1,84 @@
+"""Study ``paper``: its key physics at the coarsest settings (sections 3.1, 3.2 and the stability bound).
+
+- scaling (mu, gamma, f) by a is the same trajectory as dividing (eta, xi) by a, to round-off;
+- the frozen (alpha-direct) model stores alpha L1 L2 at rest with no load, eta/xi control nothing;
+- a dt well above the stretching bound h sqrt(mu / (2 eta G)) blows up, well below it does not;
+- a claim's verdict is computed from its checks, never written by hand.
+
+The whole sweep runs under ``slow`` (it is not in the default ``deformable validate`` set either).
+"""
+
+import pytest
+
+from deformable import scenes
+from validation.studies.paper import STUDY, classify, predictions, run_case, spectrum, trajectory_difference
+from validation.studies.paper.cases import FROZEN, SCALE, VISIBLE, XI_BASE, Case, fields
+from validation.studies.paper.claims import Claim
+
+from ...conftest import checks_pass
+
+
+@pytest.mark.parametrize("backend, nodes", [("fd", 8), ("fe", 5)])
+def test_scaling_mu_gamma_f_equals_dividing_eta_xi(backend, nodes):
+    base = scenes.config("curtain")
+    a, T = SCALE, 0.2
+
+    def run(**kw):
+        return run_case(Case("run", "curtain", backend, nodes, fields(**{"xi": XI_BASE, **kw}), t_end=T, every=10))
+
+    P = run(mu=a * base.mu, gamma=a * base.gamma, push=a * base.push)
+    Q = run(eta=base.eta / a, xi=XI_BASE / a)
+    R = run(mu=a * base.mu, gamma=a * base.gamma, push=a * base.push, g=base.g)  # eta fixed: not the same
+    assert P["status"] == Q["status"] == "finished"
+    d = trajectory_difference(P, Q)
+    assert d <= 1e-10, f"{backend}: (a mu, a gamma, a f) vs (eta/a, xi/a) differ by {d:.2e} (round-off expected)"
+    ref = run()
+    assert trajectory_difference(R, ref) >= VISIBLE  # with eta, xi fixed the motion changes
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_frozen_alpha_has_residual_energy_eta_control_none(backend):
+    n = 6
+    L1, L2 = FROZEN["size"]
+    alpha = FROZEN["alpha"]
+    fa = run_case(Case("frozen", backend=backend, nodes=n, tag="alpha"))
+    if backend == "fe":
+        expected = alpha * L1 * L2
+    else:  # the pointwise difference rows cover L1 (L2 + h2) and (L1 + h1) L2
+        expected = 0.5 * alpha * (L1 * (L2 + fa["h2"]) + (L1 + fa["h1"]) * L2)
+    assert abs(fa["stretching"] / expected - 1) <= 1e-12, (fa["stretching"], expected)
+    assert fa["force"] > 0 and fa["displacement"] > 1e-3  # the rest state is not an equilibrium
+    fx = run_case(Case("frozen", backend=backend, nodes=n, tag="eta-xi"))
+    assert fx["stretching"] + fx["bending"] == 0.0 and fx["force"] == 0.0
+    assert fx["displacement"] <= 1e-10
+
+
+def test_dt_above_the_stretching_bound_blows_up_below_does_not():
+    nodes = 8
+    cfg = scenes.config("curtain", nodes=(nodes, nodes))
+    spec = spectrum("fd", cfg.size, nodes)
+    dt_c = predictions(spec, cfg.mu, cfg.eta, cfg.dt, 1.0)["dt_c"]
+    h = min(cfg.size) / (nodes - 1)
+    assert abs(dt_c / (h * (cfg.mu / (2 * cfg.eta)) ** 0.5) - 1) < 0.05  # FD: h sqrt(mu / (2 eta G))
+    runs = {f: run_case(Case("run", "curtain", "fd", nodes, fields(xi=0.0), dt=f * dt_c, t_end=0.2))
+            for f in (0.3, 3.0)}
+    assert classify(runs[0.3]) == "bounded", runs[0.3]["status"]
+    assert classify(runs[3.0]) != "bounded", runs[3.0]["status"]
+
+
+def test_a_claims_verdict_follows_its_checks():
+    claim = Claim("xi above 1e-3 is unstable", "5", "xi_c = 2e-4", literal=False, checks=(True, True),
+                  correction="the limit scales as h^4 / dt^2")
+    assert claim.verdict == "holds with a correction: the limit scales as h^4 / dt^2"
+    assert Claim("s", "3.1", "m", literal=True, checks=(True,)).verdict == "holds"
+    assert Claim("s", "3.1", "m", literal=False, checks=(True,)).verdict == "does not hold"
+    assert Claim("s", "3.1", "m", literal=True, checks=(True, False, False)).verdict.startswith(
+        "not shown (2 of 3 checks failed)")
+    assert Claim("s", "3.1", "m", literal=True).verdict == "not measured (no check)"
+    assert Claim("s", "3.1", "m", literal=True, checks=(True,)).row() == ("s", "3.1", "m", "holds")
+
+
+@pytest.mark.slow
+def test_the_quick_paper_study_passes_its_checks():
+    """The whole sweep at its quick level (minutes on two cores)."""
+    checks_pass(STUDY.run(STUDY.levels.minimum))

@@ -1,0 +1,87 @@
+"""The ``deformable`` command line: ``run``, ``validate`` and ``bench``.
+
+Each subcommand lives in its own module, which provides ``configure(parser)``
+and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
+library or by a command) ends in one line on stderr and exit code 2, never a
+traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+
+import deformable
+
+__all__ = ["main", "CommandError"]
+
+# subcommand -> (module, one-line help)
+COMMANDS = {
+    "run": ("validation.commands.run", "run a scene and write an XDMF time series (ParaView)"),
+    "validate": ("validation.commands.validate", "run validation studies and write reports"),
+    "bench": ("validation.commands.bench", "time the time step of each backend"),
+}
+
+
+class CommandError(Exception):
+    """Bad input to a command: printed as one line, exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, no usage block
+        raise CommandError(f"{self.prog}: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="deformable", description="Elastic sheets after Terzopoulos et al. (1987): "
+                     "finite differences and finite elements, with a validation harness.")
+    parser.add_argument("--version", action="version", version=f"deformable {deformable.__version__}")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, (module, help_) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_, description=help_)
+        try:
+            mod = importlib.import_module(module)
+        except ModuleNotFoundError as err:
+            if err.name != module:
+                raise
+            p.set_defaults(_execute=_missing(name))
+            continue
+        mod.configure(p)
+        p.set_defaults(_execute=mod.execute)
+    return parser
+
+
+def _missing(name):
+    def execute(args):
+        raise CommandError(f"deformable {name}: not available in this version")
+
+    return execute
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                            format="%(levelname)s %(name)s: %(message)s")
+        if args.command is None:
+            parser.print_help()
+            return 0
+        return int(args._execute(args) or 0)
+    except (CommandError, ValueError) as err:
+        print(f"error: {err}" if not str(err).startswith("deformable") else str(err), file=sys.stderr)
+        return 2
+    except OSError as err:  # a file system failure after the checks (disk full, folder removed)
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,88 @@
+r"""``deformable validate [STUDY ...] [--quick | --full] [--levels K] [--surfaces S,...] [--out DIR] [--jobs N]``.
+
+Runs the registered studies (:data:`validation.studies.STUDIES`; when none is
+named, every one whose ``in_default`` is true, at the quick levels), each on
+a shared :class:`Runner` (a process pool of N workers for the independent
+cases), and writes each
+study's report folder as soon as that study has finished, then the index.
+Unknown studies, surfaces or level counts end in one line on stderr and exit
+code 2 (a ValueError, turned into that by :mod:`validation.commands`). The exit
+code is 1 when any check failed, 0 otherwise.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+import time
+
+from validation.harness.report import writable_folder, write_index, write_study
+from validation.harness.runner import Runner
+from validation.studies import STUDIES, get_study
+
+__all__ = ["configure", "execute", "run"]
+
+log = logging.getLogger(__name__)
+
+
+def configure(parser) -> None:
+    """Add the arguments of ``deformable validate`` to an argparse parser."""
+    parser.add_argument("studies", nargs="*", metavar="STUDY",
+                        help="studies to run (default: all but the long ones, "
+                        f"{', '.join(n for n, s in STUDIES.items() if not s.in_default) or 'none'}): "
+                        f"{', '.join(STUDIES)}")
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
+                      help="quick levels (default; every study in under two minutes in all)")
+    mode.add_argument("--full", dest="mode", action="store_const", const="full", help="fine levels")
+    parser.set_defaults(mode="quick")
+    parser.add_argument("--levels", type=int, default=None, metavar="K",
+                        help="number of refinement levels (overrides --quick/--full; each study states its range)")
+    parser.add_argument("--surfaces", default=None, metavar="S,...",
+                        help="comma-separated analytic surfaces for the studies that take them")
+    parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default: reports)")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N", help="worker processes (default: 1)")
+
+
+def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None, out="reports", jobs: int = 1,
+        progress: bool = True):
+    """Run studies and write their reports; returns the list of StudyResult.
+
+    All arguments are checked before anything runs (ValueError otherwise).
+    """
+    from validation.harness import surfaces as sf
+
+    studies = [get_study(n) for n in (names or [n for n, s in STUDIES.items() if s.in_default])]
+    counts = [s.levels.resolve(s.name, mode, levels) for s in studies]
+    if surfaces is not None:
+        surfaces = [s.strip() for s in surfaces.split(",")] if isinstance(surfaces, str) else list(surfaces)
+        if not surfaces or not all(surfaces):
+            raise ValueError("--surfaces needs at least one surface name")
+        for s in surfaces:
+            sf.get(s)
+    writable_folder(out)
+    results = []
+    with Runner(jobs, progress=progress) as runner:
+        for st, k in zip(studies, counts):
+            t0 = time.perf_counter()
+            res = st.run(k, runner=runner, surfaces=surfaces)
+            res.wall_time = time.perf_counter() - t0
+            res.config = {"levels": k, "mode": mode if levels is None else "custom", **res.config}
+            write_study(res, out)
+            log.info("study %s: %d passed, %d failed in %.1f s", st.name, res.passed, res.failed, res.wall_time)
+            results.append(res)
+    write_index(out, STUDIES)
+    return results
+
+
+def execute(args) -> int:
+    """Entry point of ``deformable validate``: 0 if every check passed, 1 otherwise."""
+    t0 = time.perf_counter()
+    results = run(args.studies, args.mode, args.levels, args.surfaces, args.out, args.jobs,
+                  progress=sys.stderr.isatty())
+    passed = sum(r.passed for r in results)
+    failed = sum(r.failed for r in results)
+    for r in results:
+        print(f"{r.study:14s} {r.passed:4d} passed {r.failed:3d} failed  {r.wall_time:6.1f} s")
+    print(f"{passed} checks passed, {failed} failed in {time.perf_counter() - t0:.1f} s; reports in {args.out}/")
+    return 0 if failed == 0 else 1

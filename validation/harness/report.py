@@ -1,0 +1,263 @@
+r"""The report writer: one folder per study, and an index.
+
+For a :class:`~validation.harness.study.StudyResult` ``res`` and an output folder OUT,
+:func:`write_study` writes ``OUT/<study>/``:
+
+- ``summary.md``: description, configuration, the checks as PASS/FAIL against
+  their stated expectations, the tables, the findings, the figures, and the
+  closing line "N checks passed, M failed";
+- ``results.json``: every number (tables, checks, data), the resolved
+  configuration, package versions and the wall time;
+- ``<table>.csv`` for every table (full precision);
+- ``<figure>.png`` for every figure: log-log axes with labelled axes and
+  units, a legend and dashed reference-slope lines (~50-100 KB each).
+
+Nothing is written half-way: the folder is built under a temporary name next
+to its destination and renamed into place only when complete.
+:func:`write_index` writes ``OUT/index.md`` linking every study folder found
+in OUT, with its pass/fail counts.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import logging
+import math
+import os
+import platform
+import shutil
+import tempfile
+from datetime import datetime, timezone
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from .study import Figure, StudyResult, Table
+
+__all__ = ["write_study", "write_index", "versions", "markdown_table", "plot"]
+
+log = logging.getLogger(__name__)
+PACKAGES = ("deformable", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
+
+
+def writable_folder(path) -> Path:
+    """Create ``path`` if needed and check that files can be written in it; ValueError otherwise.
+
+    Called before any work starts, so a bad ``--out`` costs nothing and leaves nothing half-written.
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".write-test-"):
+            pass
+    except OSError as err:
+        raise ValueError(f"cannot write to output folder {str(path)!r}: {err.strerror or err}") from None
+    return path
+
+
+def versions() -> dict[str, str]:
+    """Versions of Python and the packages the results depend on."""
+    out = {"python": platform.python_version()}
+    for p in PACKAGES:
+        try:
+            out[p] = metadata.version(p)
+        except metadata.PackageNotFoundError:
+            out[p] = "not installed"
+    return out
+
+
+def _json_default(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating, np.integer, np.bool_)):
+        return obj.item()
+    if isinstance(obj, (tuple, set)):
+        return list(obj)
+    return str(obj)
+
+
+def _clean(obj):
+    """NaN and infinities as None (strict JSON), recursively."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (np.floating,)):
+        return _clean(float(obj))
+    if isinstance(obj, (np.integer, np.bool_)):
+        return obj.item()
+    return obj
+
+
+def _cell(v) -> str:
+    """A table cell for markdown: numbers rounded to 3 significant digits, NaN blank."""
+    if isinstance(v, (bool, np.bool_)):
+        return str(bool(v))
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        if not math.isfinite(v):
+            return ""
+        if v == 0:
+            return "0"
+        return f"{v:.3g}" if 1e-3 <= abs(v) < 1e4 else f"{v:.2e}"
+    return str(v).replace("|", "\\|")
+
+
+def markdown_table(columns, rows) -> str:
+    """A GitHub-flavoured markdown table."""
+    lines = ["| " + " | ".join(_cell(c) for c in columns) + " |", "|" + "---|" * len(columns)]
+    lines += ["| " + " | ".join(_cell(v) for v in r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def _csv(table: Table) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(table.columns)
+    for r in table.rows:
+        w.writerow(["" if isinstance(v, float) and not math.isfinite(v) else (repr(v) if isinstance(v, float) else v)
+                    for v in r])
+    return buf.getvalue()
+
+
+def plot(fig: Figure, path: Path) -> None:
+    """Draw ``fig`` as a PNG: log-log panels, markers, legend, dashed reference slopes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
+
+    n = len(fig.panels)
+    crowded = max(len(p.lines) + len(p.slopes) for p in fig.panels) > 6  # legend below the axes
+    f, axes = plt.subplots(1, n, figsize=(5.2 * n, 5.4 if crowded else 4.2), dpi=90, squeeze=False)
+    for ax, panel in zip(axes[0], fig.panels):
+        xs, ys = [], []
+        for line in panel.lines:
+            x, y = np.asarray(line.x), np.asarray(line.y)
+            ok = (x > 0) & (y > 0) & np.isfinite(y)
+            if ok.sum() == 0:
+                continue
+            ax.loglog(x[ok], y[ok], line.style, label=line.label, ms=4, lw=1.3)
+            xs.append(x[ok])
+            ys.append(y[ok])
+        if xs and panel.slopes:
+            x_all, y_all = np.concatenate(xs), np.concatenate(ys)
+            x0, x1 = x_all.min(), x_all.max()
+            # anchor each reference line at the right end, a little below the geometric mean of the data there
+            y_anchor = np.exp(np.mean(np.log(y_all))) * 0.3
+            xr = np.array([x0, x1])
+            for p, style in zip(panel.slopes, ("--", ":", "-.", (0, (5, 1, 1, 1)))):
+                yr = y_anchor * (xr / x1) ** p
+                ax.loglog(xr, yr, linestyle=style, color="0.35", lw=1.2,
+                          label=f"reference O({panel.slope_label}^{p:g})")
+        ax.set_xlabel(panel.xlabel)
+        ax.set_ylabel(panel.ylabel)
+        ax.set_title(panel.title, fontsize=10)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        if panel.lines and crowded:
+            ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+        elif panel.lines:
+            ax.legend(fontsize=7, loc="best", framealpha=0.8)
+    f.tight_layout()
+    f.savefig(path, dpi=90)
+    plt.close(f)
+
+
+def _summary(res: StudyResult, ver: dict) -> str:
+    out = [f"# Study `{res.study}`", "", res.description, ""]
+    out += ["## Configuration", "", "```json", json.dumps(_clean(res.config), indent=1, default=_json_default), "```",
+            "", f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
+    out += ["## Checks", ""]
+    if res.checks:
+        out.append(markdown_table(("result", "check", "expectation", "observed"),
+                                  [("PASS" if c.passed else "**FAIL**", c.name, c.expectation, c.observed)
+                                   for c in res.checks]))
+    else:
+        out.append("No checks.")
+    out.append("")
+    for t in res.tables:
+        out += [f"## {t.title}", ""]
+        if t.note:
+            out += [t.note, ""]
+        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+    if res.findings:
+        out += ["## Findings", ""] + [f"- {f}" for f in res.findings] + [""]
+    if res.figures:
+        out += ["## Figures", ""]
+        for fig in res.figures:
+            out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+    out.append(f"{res.passed} checks passed, {res.failed} failed")
+    return "\n".join(out) + "\n"
+
+
+def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
+    """Write ``out/<study>/`` for one finished study (atomically); returns the folder."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    final = out / res.study
+    tmp = Path(tempfile.mkdtemp(prefix=f".{res.study}-", dir=out))
+    try:
+        ver = versions()
+        (tmp / "summary.md").write_text(_summary(res, ver))
+        payload = res.to_dict()
+        payload["versions"] = ver
+        payload["written"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        (tmp / "results.json").write_text(json.dumps(_clean(payload), indent=1, default=_json_default))
+        for t in res.tables:
+            (tmp / f"{t.name}.csv").write_text(_csv(t))
+        for fig in res.figures:
+            if fig.image is not None:  # drawn by the study itself
+                (tmp / f"{fig.name}.png").write_bytes(fig.image)
+            else:
+                plot(fig, tmp / f"{fig.name}.png")
+        os.chmod(tmp, 0o755)
+        if final.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{res.study}-old-", dir=out))
+            os.replace(final, old / res.study)
+            os.replace(tmp, final)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(tmp, final)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    log.info("wrote %s (%d checks passed, %d failed)", final, res.passed, res.failed)
+    return final
+
+
+def write_index(out: str | os.PathLike, order=()) -> Path:
+    """Write ``out/index.md`` linking every study folder in ``out`` that has a results.json.
+
+    ``order``: study names in the order to list them (others follow by name).
+    """
+    out = Path(out)
+    order = {name: k for k, name in enumerate(order)}
+    rows = []
+    folders = [p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")]
+    for d in sorted(folders, key=lambda p: (order.get(p.name, len(order)), p.name)):
+        f = d / "results.json"
+        if not f.exists():
+            continue
+        r = json.loads(f.read_text())
+        rows.append((f"[{r['study']}]({d.name}/summary.md)", r.get("description", ""), r.get("passed", 0),
+                     r.get("failed", 0), r.get("config", {}).get("levels", ""), f"{r.get('wall_time', 0):.1f}"))
+    passed = sum(r[2] for r in rows)
+    failed = sum(r[3] for r in rows)
+    text = ["# Validation reports", "",
+            "Generated by `deformable validate`; each study folder holds summary.md, results.json, CSV tables "
+            "and PNG plots.", "",
+            markdown_table(("study", "what it measures", "passed", "failed", "levels", "wall time (s)"), rows), "",
+            f"{passed} checks passed, {failed} failed", ""]
+    path = out / "index.md"
+    path.write_text("\n".join(text))
+    return path

@@ -1,0 +1,260 @@
+r"""The paper study's settings and cases: each an independent computation on a scene (run, spectrum, ...).
+
+:func:`run_case` runs one :class:`Case` (module level, so a process pool can map it).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+import deformable as dm
+from deformable import scenes
+from validation.harness.backends import make_model
+from validation.harness.surfaces import cylinder
+
+__all__ = ["Case", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "RUNAWAY_G", "VISIBLE",
+           "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS"]
+
+#: a run whose largest G_ii exceeds this has a fibre stretched to more than twice its length
+RUNAWAY_G = 4.0
+#: the relative change of a trajectory that counts as "visible" (1 % of the motion)
+VISIBLE = 1e-2
+
+#: level 1 = --quick, level 2 = --full
+SETTINGS = {
+    1: dict(fd=12, fe=7, t_map=0.3, t_short=0.2, t_hang=0.5, t_sens=1.0, t_render=2.0, render_fd=16, render_fe=9,
+            etas=(5.0, 20.0, 80.0, 320.0, 1280.0, 5120.0), xis=(0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1.0),
+            dts=tuple(5e-4 * 2**k for k in range(7)), fd_grids=(8, 12, 16), fe_grids=(5, 7),
+            sens_xis=(0.0, 1e-9, 1e-8, 1e-7, 3e-6, 1e-4, 1e-3)),
+    2: dict(fd=16, fe=9, t_map=0.5, t_short=0.3, t_hang=1.0, t_sens=2.0, t_render=3.0, render_fd=32, render_fe=17,
+            etas=(5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0, 640.0, 1280.0, 2560.0, 5120.0),
+            xis=(0.0, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1.0, 3.0),
+            dts=tuple(5e-4 * 2 ** (k / 2) for k in range(13)), fd_grids=(8, 12, 16, 24), fe_grids=(5, 7, 9),
+            sens_xis=(0.0, 1e-9, 1e-8, 1e-7, 3e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3)),
+}
+MAP_SCENES = ("curtain", "flag")
+#: claim 1: the factor of the scenes' scaling (section 3.1) and the base xi (so xi is scaled too)
+SCALE, XI_BASE, TIME_SCALE = 20.0, 1e-6, 3.0
+TRIPLES = ((SCALE, SCALE, SCALE), (SCALE, 1.25 * SCALE, SCALE), (SCALE, 1.0, 1.0), (1.0, SCALE, 1.0),
+           (1.0, 1.0, SCALE), (0.5, 2.0, 1.0))
+#: claim 2: hanging-sheet variants (eta_12 as a fraction of eta, xi, xi_12)
+HANGING = {"paper (eta_12 = xi_12 = 0)": (0.0, 0.0, 0.0), "eta_12 = eta / 2": (0.5, 0.0, 0.0),
+           "eta_12 = eta": (1.0, 0.0, 0.0), "xi = 1e-5, xi_12 = 0": (0.0, 1e-5, 0.0),
+           "xi = xi_12 = 1e-5": (0.0, 1e-5, 1e-5)}
+FROZEN = dict(alpha=1.0, beta=1e-3, kappa=1.0, mu=0.2, gamma=0.5, t_end=0.1, dt=1e-3, size=(1.0, 1.2))
+#: claim 5: (scene, times (s), paper figures)
+RENDERS = (("curtain", (1.0, 2.0), "Figs 3-4"), ("curtain-silky", (2.0,), "Fig. 5"), ("paper", (2.0,), "Fig. 6"),
+           ("flag", (1.0, 2.0), "Figs 7-8"))
+
+
+
+@dataclass(frozen=True)
+class Case:
+    """One independent computation.
+
+    kind : "run" (a scene), "hanging" (claim 2 shear), "frozen" (claim 2 residual), "spectrum" (lambda_m, lambda_b)
+    scene, backend, nodes : scene name, "fd" | "fe", nodes a side
+    fields : ((key, value), ...) overrides of the scene config
+    dt, t_end : time step (0: the scene's) and simulated time (s)
+    every : keep a snapshot of the node grid every this many steps (0: none)
+    times : keep a render snapshot at these times (s)
+    tag : a variant label
+    """
+
+    kind: str
+    scene: str = ""
+    backend: str = "fd"
+    nodes: int = 12
+    fields: tuple = ()
+    dt: float = 0.0
+    t_end: float = 0.0
+    every: int = 0
+    times: tuple = ()
+    tag: str = ""
+
+    @property
+    def cost(self) -> float:
+        """A rough cost (steps, FE counted double) to schedule long cases first."""
+        dt = self.dt or scenes.config(self.scene or "hanging").dt
+        steps = self.t_end / dt if self.t_end else 1.0
+        return steps * (2.0 if self.backend == "fe" else 1.0) * (self.nodes / 12.0) ** 2
+
+
+def _quiet():
+    """Silence the stepper's divergence warnings: divergence is an expected outcome here, tabulated."""
+    logger = logging.getLogger("deformable.dynamics.stepper")
+    level = logger.level
+    logger.setLevel(logging.ERROR)
+    return logger, level
+
+
+def _upper_mean_B(model, X, L2: float) -> float:
+    """Mean Frobenius norm of B over the upper half (a2 > L2 / 2): nodes (FD) or Gauss points (FE)."""
+    G, B = model.tensors(X)
+    a2 = model.points[1]
+    norm = np.sqrt(np.sum(B**2, axis=(0, 1)))
+    return float(np.mean(norm[a2 > L2 / 2]))
+
+
+def _render_points(model, X, refine: int = 3) -> np.ndarray:
+    """Surface points for a picture: the surface sampled on the node grid refined ``refine`` times.
+
+    (FD samples are bilinear between nodes, so the FD picture is its node grid; FE shows its cubic surface.)
+    """
+    L1, L2 = model.scene.sheet.size
+    M0, N0 = model.scene.sheet.nodes
+    M, N = (refine * (M0 - 1) + 1, refine * (N0 - 1) + 1)
+    a1, a2 = np.meshgrid(np.linspace(0, L1, M), np.linspace(0, L2, N), indexing="ij")
+    return model.sample(X, np.stack([a1.ravel(), a2.ravel()], axis=1)).r.reshape(M, N, 3)
+
+
+def _run_scene(case: Case) -> dict:
+    fields = dict(case.fields)
+    cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **fields)
+    if case.dt:
+        cfg = cfg.replace(dt=case.dt)
+    model = make_model(scenes.build(cfg), case.backend)
+    stepper = dm.TimeStepper(model, cfg.dt)
+    X0 = model.initial_state()
+    rec = dict(G=1.0, B=0.0, Bneg=[0.0, 0.0], snaps=[model.grid(X0)], renders={})
+    pending = sorted(case.times)
+
+    def watch(state):
+        if state.step % 10 == 0:
+            G, B = model.tensors(state.X)
+            rec["G"] = max(rec["G"], float(max(G[0, 0].max(), G[1, 1].max())))
+            rec["B"] = max(rec["B"], float(np.abs(B).max()))
+            rec["Bneg"] = [max(rec["Bneg"][i], float(-B[i, i].min())) for i in (0, 1)]
+        if case.every and state.step % case.every == 0:
+            rec["snaps"].append(model.grid(state.X))
+        while pending and state.t >= pending[0] - 0.5 * cfg.dt:
+            rec["renders"][pending.pop(0)] = _render_points(model, state.X)
+
+    logger, level = _quiet()
+    try:
+        result = stepper.run(X0, t_end=case.t_end, trackers=[dm.Callback(watch)])
+    finally:
+        logger.setLevel(level)
+    X = result.state.X
+    final = model.grid(X)
+    out = dict(status=result.status, t=result.state.t, steps=result.steps, wall=result.wall_time, Gmax=rec["G"],
+               Bmax=rec["B"], Bneg=rec["Bneg"], h=min(model.spacing), dt=cfg.dt, mu=cfg.mu, eta=cfg.eta, xi=cfg.xi,
+               snaps=np.array(rec["snaps"]), final=final, renders=rec["renders"])
+    if result.status != "diverged":
+        G, B = model.tensors(X)
+        out["Gmax"] = max(out["Gmax"], float(max(G[0, 0].max(), G[1, 1].max())))
+        out["Bmax"] = max(out["Bmax"], float(np.abs(B).max()))
+        out["upper_B"] = _upper_mean_B(model, X, cfg.size[1])
+        out["rail"] = float(np.ptp(final[:, -1, 0]) / cfg.size[0])
+    return out
+
+
+def _run_hanging(case: Case) -> dict:
+    e12, xi, x12 = dict(case.fields)["variant"]
+    cfg = scenes.config("hanging", nodes=(case.nodes, case.nodes))
+    eta = cfg.eta
+    mat = dm.Material(mu=cfg.mu, gamma=cfg.gamma, eta=np.array([[eta, e12 * eta], [e12 * eta, eta]]),
+                      xi=np.array([[xi, x12], [x12, xi]]))
+    scene = dataclasses.replace(scenes.build(cfg), material=mat)
+    model = make_model(scene, case.backend)
+    stepper = dm.TimeStepper(model, cfg.dt)
+    peak = dict(G12=0.0, B12=0.0)
+
+    def watch(state):
+        G, B = model.tensors(state.X)
+        peak["G12"] = max(peak["G12"], float(np.abs(G[0, 1]).max()))
+        peak["B12"] = max(peak["B12"], float(np.abs(B[0, 1]).max()))
+
+    logger, level = _quiet()
+    try:
+        result = stepper.run(model.initial_state(), t_end=case.t_end, trackers=[dm.Callback(watch, every=10)])
+    finally:
+        logger.setLevel(level)
+    X = result.state.X
+    G, B = model.tensors(X)
+    grid = model.grid(X)
+    e = model.energy(X)
+    return dict(status=result.status, t=result.state.t, G12_peak=peak["G12"], B12_peak=peak["B12"],
+                G12_final=float(np.abs(G[0, 1]).max()), G12_mean=float(np.abs(G[0, 1]).mean()),
+                B12_final=float(np.abs(B[0, 1]).max()), sag=float(-grid[:, 0, 2].mean()),
+                stretching=e.stretching, bending=e.bending, final=grid)
+
+
+def frozen_scene(variant: str, nodes: int) -> dm.Scene:
+    """Claim 2's sheets at rest, no load, no constraint.
+
+    ``"alpha"``: flat, frozen alpha = FROZEN["alpha"] I. ``"beta"``: the cylinder, frozen beta. ``"eta-xi"``:
+    the cylinder under the paper's eta/xi control (tpbf87) with eta = alpha, xi = beta.
+    """
+    p = FROZEN
+    # radius -1/kappa: curvature B11 = +kappa about the normal r_1 x r_2, the sign for which the tpbf87 force
+    # is stable (claim 3: where xi B < 0 it amplifies round-off)
+    rest = None if variant == "alpha" else cylinder(-1.0 / p["kappa"])
+    sheet = dm.Sheet(size=p["size"], nodes=(nodes, nodes), rest=rest)
+    if variant == "alpha":
+        mat = dm.Material(mu=p["mu"], gamma=p["gamma"], alpha=p["alpha"], beta=0.0)
+    elif variant == "beta":
+        mat = dm.Material(mu=p["mu"], gamma=p["gamma"], alpha=0.0, beta=p["beta"])
+    else:
+        mat = dm.Material(mu=p["mu"], gamma=p["gamma"], eta=p["alpha"], xi=p["beta"])
+    return dm.Scene(sheet, mat, force_model="tpbf87" if variant == "eta-xi" else "frozen", name=f"frozen-{variant}")
+
+
+def _run_frozen(case: Case) -> dict:
+    model = make_model(frozen_scene(case.tag, case.nodes), case.backend)
+    X0 = model.initial_state()
+    e = model.energy(X0)
+    force = model.internal_force(X0)[model.value_dofs]  # the value rows (FE: the others are moments)
+    result = dm.TimeStepper(model, FROZEN["dt"]).run(X0, t_end=FROZEN["t_end"])
+    disp = float(np.max(np.linalg.norm(model.grid(result.state.X) - model.grid(X0), axis=-1)))
+    return dict(stretching=e.stretching, bending=e.bending, force=float(np.max(np.linalg.norm(force, axis=1))),
+                displacement=disp, h1=model.spacing[0], h2=model.spacing[1], status=result.status)
+
+
+def spectrum(backend: str, size: tuple, nodes: int) -> dict:
+    """Largest eigenvalues, against the mass (mu = 1), of the membrane and bending operators per unit weight.
+
+    ``lambda_m``: ``K(alpha = e_i e_i)`` for the direction i of larger value (the one with smaller h);
+    ``lambda_b``: ``(K(beta = e_1 e_1), K(beta = e_2 e_2))``. Free sheet, no constraint. FD: about 4/h^2
+    and 16/h_i^4.
+    """
+    def largest(alpha, beta):
+        sheet = dm.Sheet(size=tuple(size), nodes=(nodes, nodes))
+        model = make_model(dm.Scene(sheet, dm.Material(mu=1.0, alpha=alpha, beta=beta), force_model="frozen"),
+                           backend)
+        K = model.stiffness(model.initial_state()).toarray()
+        return float(sla.eigh(K, model.mass().toarray(), eigvals_only=True)[-1])
+
+    lm = max(largest(np.diag([1.0, 0.0]), 0.0), largest(np.diag([0.0, 1.0]), 0.0))
+    lb = [largest(0.0, np.diag([1.0, 0.0])), largest(0.0, np.diag([0.0, 1.0]))]
+    L1, L2 = size
+    return dict(lambda_m=lm, lambda_b=lb, h=min(L1, L2) / (nodes - 1))
+
+
+def run_case(case: Case) -> dict:
+    """Run one case (module level, so a process pool can map it)."""
+    t0 = time.perf_counter()
+    if case.kind == "run":
+        out = _run_scene(case)
+    elif case.kind == "hanging":
+        out = _run_hanging(case)
+    elif case.kind == "frozen":
+        out = _run_frozen(case)
+    elif case.kind == "spectrum":
+        out = spectrum(case.backend, scenes.config(case.scene).size, case.nodes)
+    else:
+        raise ValueError(f"unknown case kind {case.kind!r}")
+    out["wall"] = time.perf_counter() - t0
+    return out
+
+
+
+def fields(**kw) -> tuple:
+    """Scene-config overrides as a hashable tuple of (key, value) pairs, for :class:`Case`."""
+    return tuple(sorted(kw.items()))
