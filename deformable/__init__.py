@@ -14,7 +14,7 @@ from .backend import Backend, Energy, EnergyBackend, Sample
 from .compatibility import IncompatibleRestState, check_compatibility, check_rest_state
 from .constraints import Clamp, Pin, Slide, select
 from .dynamics import (SCHEMES, Callback, DivergenceError, DivergenceGuard, EnergyMonitor, ProgressBar, RunResult,
-                       State, Stop, TimeStepper, Tracker)
+                       StalledError, State, Stop, TimeStepper, Tracker)
 from .equilibrium import equilibrium
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal
 from .material import Material
@@ -29,6 +29,6 @@ __all__ = [
     "IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy", "Sample",
     "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
     "PointLoad", "Sinusoidal", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
-    "DivergenceError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
+    "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
 ]

@@ -189,8 +189,15 @@ class ReducedSystem:
         slots = np.split(self.pattern.slot, np.cumsum([K.nnz, M.nnz]))
         self.idxK = slots[0]
         self.K_pattern = (K.indptr, K.indices)
-        self.base = self.pattern.data(np.concatenate([np.zeros(K.nnz), cm * M.data, cc * C.data]))
+        self._MC = (K.nnz, M.data, C.data)
+        self.rescale(cm, cc)
         self.blocks = [self._block(np.asarray(f, dtype=np.int64)) for f in fixed_sets]
+
+    def rescale(self, cm: float, cc: float) -> None:
+        """Change the multipliers of M and C (a new time step)."""
+        nK, M, C = self._MC
+        self.cm, self.cc = cm, cc
+        self.base = self.pattern.data(np.concatenate([np.zeros(nK), cm * M, cc * C]))
 
     def _block(self, fixed):
         n = self.n
@@ -227,10 +234,14 @@ class ReducedSystem:
         A[self.idxK] += K.data
         return A
 
+    def free_matrix(self, A: np.ndarray, block) -> sp.csc_matrix:
+        """The free-free block of A's data for one block split (CSC; symmetric, so also its own CSR transpose)."""
+        nf = block["free"].size
+        return sp.csc_matrix((A[block["gather_ff"]], block["indices"], block["indptr"]), shape=(nf, nf))
+
     def matrices(self, A: np.ndarray, block):
         """The free-free block (CSC) and the free-held block (CSR) of A's data for one block split."""
-        nf = block["free"].size
-        Aff = sp.csc_matrix((A[block["gather_ff"]], block["indices"], block["indptr"]), shape=(nf, nf))
+        Aff = self.free_matrix(A, block)
         Afc = sp.csr_matrix(
             (A[block["gather_fc"]], (block["fc_rows"], block["fc_cols"])), shape=block["shape_fc"]
         )

@@ -8,14 +8,17 @@ optionally under load continuation.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from .newton import ConvergenceError, FlatEnergy, flat, minimise, unflat
+from .newton import ConvergenceError, FlatEnergy, Newton, flat, unflat
 
 __all__ = ["equilibrium"]
 
 
-def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 200, load_steps: int = 1):
+def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 200, load_steps: int = 1,
+                newton: dict | None = None):
     """Static equilibrium grad E(X) = F(t) by Newton's method with line search.
 
     Parameters
@@ -31,8 +34,9 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
         Newton iterations per load step.
     load_steps : int
         Apply the load in this many equal increments (continuation), each
-        solved to the tolerance: large rotations under a large load converge
-        in far fewer iterations this way.
+        solved to the tolerance.
+    newton : dict, optional
+        Further :class:`deformable.newton.NewtonSettings` (hessian, solver, reuse).
 
     Returns
     -------
@@ -48,6 +52,7 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
     if int(load_steps) != load_steps or load_steps < 1:
         raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
     fl = FlatEnergy(model)
+    solver = Newton(fl, dict(newton or {}, max_iter=max_iter, rtol=0.0))
     X0 = np.asarray(X0, float)
     F_full = fl.load(X0, t)
     x = fl.hold(flat(X0), X0, t)
@@ -62,8 +67,8 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
             return fl.gradient(x) - F
 
         scale = max(np.max(np.abs(F[fl.free])) if F.size else 0.0, np.max(np.abs(grad(x)[fl.free])))
-        x, report = minimise(phi, grad, fl.hessian, x, fl.free, rtol=0.0, atol=tol * scale,
-                             max_iter=max_iter, label="equilibrium", max_step=fl.max_step)
+        solver.settings = dataclasses.replace(solver.settings, atol=tol * scale)
+        x, report = solver.minimise(phi, grad, x, label="equilibrium")
         history += report.residuals
         if not report.converged:
             raise ConvergenceError(

@@ -2,36 +2,60 @@ r"""Newton's method on a potential over the free degrees of freedom of a model.
 
 The implicit time steps (:mod:`deformable.dynamics.implicit`) and static
 equilibrium (:mod:`deformable.equilibrium`) both minimise a potential
-``Phi(x) = (inertia, damping terms) + E(x) - F . x`` whose elastic part E is
-the model's energy (the exact gradient of eq. (13) for the "variational"
-model, the quadratic energy of the frozen one). This module holds what they
-share: the model's energy over flat coordinate-blocked vectors
-(:class:`FlatEnergy`), and :func:`minimise`, Newton with a backtracking line
-search.
 
-The Newton matrix is the exact Hessian; when it gives no descent direction (an
-indefinite Hessian, e.g. under compression) the step falls back to
-Gauss-Newton and then adds a Levenberg-Marquardt shift until it does. Each
-Newton step moves no degree of freedom by more than ``max_step`` (the callers
-use :data:`MAX_STEP` of the sheet's diagonal: a trust region of fixed radius;
-without it a soft strip (eta = xi = 1) curling from flat jumped into twisted
-states, and which ones depended on round-off).
+    Phi(x) = (inertia and damping terms) + E(x) - F . x
+
+whose elastic part E is the model's energy (the exact gradient of eq. (13)
+for the "variational" model, the quadratic energy of the frozen one), and
+whose Newton matrix is ``c_M M + c_C C + Hess E`` (implicit Euler: 1/dt^2,
+1/dt; Newmark: 4/dt^2, 2/dt; statics: 0, 0). This module holds what they
+share: the model's energy over flat coordinate-blocked vectors
+(:class:`FlatEnergy`) and :class:`Newton`:
+
+- the Newton matrix lives on the Hessian's fixed pattern, reduced to the free
+  degrees of freedom by precomputed gathers
+  (:class:`deformable.assembly.ReducedSystem`): no sparse slicing and no
+  sparse-sparse product per iteration;
+- the Newton matrix is positive definite, so that every direction descends:
+  by default ("auto") the exact Hessian's when the factorisation finds it
+  positive definite (Cholesky in PARDISO; the pivots of SuperLU's symmetric
+  LDL^T), else the one of the *definite* Hessian of
+  :mod:`deformable.integrand` (Gauss-Newton plus the membrane's tension
+  stiffness, positive semi-definite point by point), which needs no
+  eigen-decomposition and no further factorisation; a Levenberg-Marquardt
+  shift is the last resort for a singular matrix;
+- the factorisation is kept while it pays: within a solve an iteration
+  reuses the last one when the previous iteration with it reduced the
+  residual at least tenfold, else it refactorises (a chord method with a
+  contraction test); a linear model's matrix is factorised once for as long
+  as c_M and c_C stay the same (the frozen model: once per dt);
+- each direction is searched with backtracking (Armijo) under an adaptive
+  bound on the largest move of any degree of freedom (a trust radius in the
+  max norm): it starts at :data:`MAX_STEP` of the sheet's diagonal, doubles
+  after a full step that the bound clipped, and shrinks to the accepted
+  length when the search backtracks. Without a bound a soft strip (eta = xi
+  = 1) curling from flat jumped into twisted states, and which ones depended
+  on round-off.
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
+from .assembly import ReducedSystem
 from .elasticity import require_energy_gradient
+from .linalg import SingularMatrix, make_solver
 
-__all__ = ["ConvergenceError", "NewtonReport", "FlatEnergy", "minimise", "MAX_STEP", "flat", "unflat"]
+__all__ = ["ConvergenceError", "NewtonReport", "NewtonSettings", "FlatEnergy", "Newton", "WATCHDOG", "flat", "unflat"]
 
-#: largest move of any degree of freedom in one Newton step, as a fraction of the sheet's diagonal
-MAX_STEP = 0.05
+#: full Newton steps taken in a row without a sufficient decrease of the potential before the watchdog steps back
+WATCHDOG = 6
+#: a reused factorisation is kept while each iteration reduces the residual at least this much (ratio)
+CONTRACTION = 0.1
 
 
 class ConvergenceError(RuntimeError):
@@ -44,12 +68,61 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class NewtonReport:
-    """Iterations and residual history of one Newton solve."""
+    """Iterations, residual history and cost of one Newton solve."""
 
     iterations: int = 0
     residuals: list = field(default_factory=list)
     converged: bool = False
     floor: float = 0.0  # round-off floor the tolerance was raised to, if any (N)
+    factorisations: int = 0
+    seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
+
+
+@dataclass(frozen=True)
+class NewtonSettings:
+    """Settings of :class:`Newton`, checked.
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Converged when the max-norm of the free residual is at most ``max(rtol * initial residual, atol)``
+        (atol in N), never below the round-off floor of the internal forces. In a time step the initial
+        residual is the force imbalance at the predictor x_n + dt v_n, so the default rtol = 1e-4 leaves a
+        position error of about 1e-4 of the step's correction (itself O(dt^2)), far below the schemes'
+        own error; a study of temporal order asks for less (e.g. rtol = 1e-10).
+    max_iter : int
+        Iterations per solve (0 allowed: a solve that must already be converged).
+    hessian : str
+        "auto" (default): the exact Hessian when the Newton matrix it gives is positive definite (the
+        factorisation tells), else the "definite" one; or one of "definite", "newton", "gauss-newton",
+        "projected" (:mod:`deformable.integrand`).
+    solver : str
+        "auto", "superlu" or "pardiso" (:mod:`deformable.linalg`).
+    reuse : bool
+        Keep a factorisation while it contracts (module docstring).
+    """
+
+    rtol: float = 1e-4
+    atol: float = 1e-12
+    max_iter: int = 30
+    hessian: str = "auto"
+    solver: str = "auto"
+    reuse: bool = True
+
+    def __post_init__(self):
+        from .integrand import HESSIANS
+        from .linalg import SOLVERS
+
+        for name in ("rtol", "atol"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
+                raise ValueError(f"newton {name} must be a finite non-negative number, got {v!r}")
+        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 0:
+            raise ValueError(f"newton max_iter must be a non-negative integer, got {self.max_iter!r}")
+        if self.hessian not in ("auto",) + HESSIANS:
+            raise ValueError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
+        if self.solver not in SOLVERS:
+            raise ValueError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
 
 
 def flat(X) -> np.ndarray:
@@ -73,10 +146,12 @@ class FlatEnergy:
     ----------
     free : bool array (3 ndof,)
         The degrees of freedom that are not held.
+    fixed : int array
+        The held ones.
     M, C : sparse (3 ndof, 3 ndof)
         diag(M, M, M) and diag(C, C, C).
-    max_step : float
-        :data:`MAX_STEP` times the sheet's diagonal.
+    diagonal : float
+        The sheet's diagonal (scene units), the scale of the Newton step bound.
     """
 
     def __init__(self, model):
@@ -85,11 +160,11 @@ class FlatEnergy:
         I3 = sp.identity(3, format="csr")
         self.M = sp.kron(I3, model.mass(), format="csr")
         self.C = sp.kron(I3, model.damping(), format="csr")
-        free = np.ones(3 * self.n, bool)
-        free[np.concatenate([a * self.n + np.asarray(f, dtype=np.int64)
-                             for a, f in enumerate(model.fixed_dofs())])] = False
-        self.free = free
-        self.max_step = MAX_STEP * float(np.hypot(*model.scene.sheet.size))
+        self.fixed = np.concatenate([a * self.n + np.asarray(f, dtype=np.int64)
+                                     for a, f in enumerate(model.fixed_dofs())])
+        self.free = np.ones(3 * self.n, bool)
+        self.free[self.fixed] = False
+        self.diagonal = float(np.hypot(*model.scene.sheet.size))
 
     def energy(self, x) -> float:
         return self.model.energy(unflat(x, self.n)).total
@@ -106,81 +181,165 @@ class FlatEnergy:
     def hold(self, x, X0, t: float) -> np.ndarray:
         """A copy of flat x with the held degrees of freedom at their prescribed values at t (reference X0)."""
         x = np.array(x, dtype=float)
-        held = ~self.free
-        x[held] = flat(self.model.prescribed(X0, t))[held]
+        x[self.fixed] = flat(self.model.prescribed(X0, t))[self.fixed]
         return x
 
 
-def minimise(phi, grad, hess, x, free, *, rtol, atol, max_iter, label, max_step=np.inf):
-    """Minimise phi over x[free] (x[~free] held) from x by Newton's method; returns (x, NewtonReport).
+class Newton:
+    """Newton's method for potentials whose Newton matrix is ``c_M M + c_C C + Hess E`` (module docstring).
 
     Parameters
     ----------
-    phi, grad, hess : callables of the flat vector x
-        The potential, its gradient (3 ndof,) and ``hess(x, kind)`` its Hessian ("newton" or "gauss-newton").
-    free : bool array
-    rtol, atol : float
-        Stop when the max-norm of the free residual is below ``max(rtol * initial residual, atol)``
-        (raised to a round-off floor of the internal forces, recorded in the report).
-    max_iter : int
-    label : str
-        Named in the ConvergenceError of a failed line search.
-    max_step : float
-        No step moves a degree of freedom by more than this.
+    problem : FlatEnergy
+    settings : NewtonSettings or dict, optional
+
+    One object serves a whole run: it keeps the Newton matrix's pattern, the
+    solver's analysis, the last factorisation and the step bound between solves.
     """
-    report = NewtonReport()
-    g = grad(x)[free]
-    r0 = np.max(np.abs(g)) if g.size else 0.0
-    target = max(rtol * r0, atol)
-    report.residuals.append(float(r0))
-    for it in range(1, max_iter + 1):
-        if report.residuals[-1] <= target:
-            report.converged = True
-            break
-        f0 = phi(x)
-        d = None
-        for kind, shift in (("newton", 0.0), ("gauss-newton", 0.0), ("gauss-newton", 1e-8), ("gauss-newton", 1e-4),
-                            ("gauss-newton", 1e-2)):
-            H = hess(x, kind)[free][:, free].tocsc()
-            if not report.floor:
-                # round-off floor: internal forces are sums of terms of size |diag H| |x|
-                report.floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(H.diagonal()))
-                                     * max(1.0, np.max(np.abs(x))))
-                target = max(target, report.floor)
-            if shift:
-                H = H + shift * abs(H.diagonal()).mean() * sp.identity(H.shape[0], format="csc")
+
+    def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None):
+        self.problem = problem
+        self.settings = settings if isinstance(settings, NewtonSettings) else NewtonSettings(**(settings or {}))
+        definite = self.settings.hessian in ("auto", "definite", "gauss-newton", "projected")
+        self.solver = make_solver(self.settings.solver, definite=definite)
+        self._system = None
+        self._factored = None  # (c_M, c_C) of the factorisation at hand, or None
+        self._floor = 0.0
+
+    def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
+        """The free block of c_M M + c_C C + Hess E at x (CSC), on the fixed pattern (the matrix Newton factorises).
+
+        ``kind``: the Hessian (default the settings'; "auto" is the exact one here).
+        """
+        report = NewtonReport() if report is None else report
+        t0 = time.perf_counter()
+        p = self.problem
+        kind = kind or self.settings.hessian
+        H = p.hessian(x, "newton" if kind == "auto" else kind)
+        if self._system is None:
+            self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed])
+        elif (self._system.cm, self._system.cc) != (cm, cc):
+            self._system.rescale(cm, cc)
+        A = self._system.free_matrix(self._system.data(H), self._system.blocks[0])
+        report.seconds["hessian"] += time.perf_counter() - t0
+        # round-off floor: internal forces are sums of terms of size |diag H| |x|
+        self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
+        report.floor = max(report.floor, self._floor)
+        return A
+
+    def _factor_at(self, x, cm, cc, report: NewtonReport) -> None:
+        """Assemble and factorise the Newton matrix at x ("auto": the exact one if definite, else the definite one)."""
+        if self.settings.hessian == "auto":
+            t0 = time.perf_counter()
             try:
-                cand = -spla.splu(H).solve(g)
-            except RuntimeError:  # exactly singular
-                continue
-            if np.all(np.isfinite(cand)) and g @ cand < 0:
-                d = cand
+                self.solver.factor(self.newton_matrix(x, cm, cc, report))
+                report.factorisations += 1
+                report.seconds["factor"] += time.perf_counter() - t0
+                return
+            except SingularMatrix:  # indefinite (compression, or bending away from the rest state): make it definite
+                report.seconds["factor"] += time.perf_counter() - t0
+            self._factor(self.newton_matrix(x, cm, cc, report, "definite"), report)
+            return
+        self._factor(self.newton_matrix(x, cm, cc, report), report)
+
+    def _factor(self, A, report: NewtonReport) -> None:
+        """Factorise A, adding a Levenberg-Marquardt shift if it is singular (or indefinite with Cholesky)."""
+        t0 = time.perf_counter()
+        scale = float(np.mean(np.abs(A.diagonal()))) or 1.0
+        for shift in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
+            try:
+                self.solver.factor(A if not shift else A + shift * scale * sp.identity(A.shape[0], format="csc"))
                 break
-        if d is None:
-            d = -g
-        longest = np.max(np.abs(d))
-        if longest > max_step:
-            d = d * (max_step / longest)
-        slope = g @ d
+            except SingularMatrix:
+                continue
+        else:
+            raise SingularMatrix("the Newton matrix stays singular under a Levenberg-Marquardt shift")
+        report.factorisations += 1
+        report.seconds["factor"] += time.perf_counter() - t0
+
+    def minimise(self, phi, grad, x, cm: float = 0.0, cc: float = 0.0, label: str = "Newton"):
+        """Minimise phi over the free degrees of freedom from x (held ones stay); returns (x, NewtonReport).
+
+        Parameters
+        ----------
+        phi, grad : callables of the flat vector x
+            The potential and its gradient (3 ndof,).
+        cm, cc : float
+            The multipliers of M and C in the Newton matrix.
+        label : str
+            Named in the ConvergenceError of a failed search.
+        """
+        s, p = self.settings, self.problem
+        free = p.free
+        report = NewtonReport(floor=self._floor)
+        if self._factored is not None and (self._factored != (cm, cc) or not p.model.linear):
+            self._factored = None  # a factorisation outlives its solve only for a linear model
+        g = grad(x)[free]
+        r0 = float(np.max(np.abs(g))) if g.size else 0.0
+        target = max(s.rtol * r0, s.atol, report.floor)
+        report.residuals.append(r0)
+        if r0 <= target:
+            report.converged = True
+            return x, report
+        ref = None  # the watchdog's reference: (x, phi, direction, slope) at the last point of sufficient decrease
+        relaxed = WATCHDOG
+        for it in range(1, s.max_iter + 1):
+            # refactorise unless the factorisation at hand (also one from an earlier solve) keeps contracting
+            slow = len(report.residuals) >= 2 and report.residuals[-1] > CONTRACTION * report.residuals[-2]
+            if self._factored is None or not s.reuse or slow:
+                self._factor_at(x, cm, cc, report)
+                self._factored = (cm, cc)
+            t0 = time.perf_counter()
+            d = -self.solver.solve(g)
+            report.seconds["solve"] += time.perf_counter() - t0
+            t0 = time.perf_counter()
+            slope = float(g @ d)
+            if not slope < 0:  # no descent (a stale factorisation): steepest descent, scaled like the step
+                d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
+                slope = float(g @ d)
+            f0 = phi(x)
+            if ref is None:
+                ref = (x, f0, d, slope)
+            xt = None
+            if relaxed > 0:  # a full Newton step, kept even if phi grows, for at most WATCHDOG steps in a row
+                xt = x.copy()
+                xt[free] += d
+                ft = phi(xt)
+                if not np.isfinite(ft):
+                    xt, relaxed = None, 0
+                elif ft <= ref[1] + 1e-4 * ref[3]:
+                    ref, relaxed = None, WATCHDOG
+                else:
+                    relaxed -= 1
+            if xt is None:  # back to the reference, and a monotone backtracking search along its direction
+                xr, fr, dr, sr = ref
+                xt = self._backtrack(phi, xr, fr, dr, sr, free, label, it, report)
+                ref = None
+            moved = float(np.max(np.abs(xt - x)))
+            x = xt
+            report.seconds["search"] += time.perf_counter() - t0
+            g = grad(x)[free]
+            report.residuals.append(float(np.max(np.abs(g))))
+            report.iterations = it
+            target = max(target, report.floor)
+            if report.residuals[-1] <= target:
+                report.converged = True
+                break
+            if moved <= 1e-15 * max(1.0, float(np.max(np.abs(x)))):  # no move left: round-off, or stuck
+                report.converged = report.residuals[-1] <= 1e3 * target
+                break
+        return x, report
+
+    @staticmethod
+    def _backtrack(phi, x, f0, d, slope, free, label, it, report):
+        """Armijo backtracking from x along the descent direction d (slope g . d < 0)."""
         step = 1.0
-        for _ in range(40):
+        for _ in range(50):
             xt = x.copy()
             xt[free] += step * d
             ft = phi(xt)
             if np.isfinite(ft) and ft <= f0 + 1e-4 * step * slope:
-                break
+                return xt
             step *= 0.5
-        else:
-            raise ConvergenceError(f"{label}: line search failed at iteration {it} (residual {report.residuals[-1]:.3e})",
-                                   report.residuals, x)
-        x = xt
-        g = grad(x)[free]
-        report.residuals.append(float(np.max(np.abs(g))))
-        report.iterations = it
-        # a step that no longer changes x is converged to round-off
-        if step * np.max(np.abs(d)) <= 1e-15 * max(1.0, np.max(np.abs(x))):
-            report.converged = report.residuals[-1] <= 1e3 * target
-            break
-    else:
-        report.converged = report.residuals[-1] <= target
-    return x, report
+        raise ConvergenceError(f"{label}: line search failed at iteration {it} (residual {report.residuals[-1]:.3e})",
+                               report.residuals, x)

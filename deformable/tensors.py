@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["metric", "normal", "frame", "dot", "curvature", "gaussian_curvature", "det2", "skew", "normal_hessian"]
+__all__ = ["metric", "normal", "frame", "dot", "cross", "curvature", "gaussian_curvature", "det2", "skew", "normal_hessian"]
 
 
 def metric(dr: np.ndarray) -> np.ndarray:
@@ -34,8 +34,16 @@ def metric(dr: np.ndarray) -> np.ndarray:
 
 
 def dot(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
-    """The dot product over the components on ``axis`` (default last: points first)."""
-    return np.sum(a * b, axis=axis)
+    """The dot product over the 3 components on ``axis`` (default last: points first)."""
+    a, b = np.moveaxis(a, axis, 0), np.moveaxis(b, axis, 0)
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a: np.ndarray, b: np.ndarray, axis: int = -1) -> np.ndarray:
+    """The cross product of 3-vectors on ``axis`` (written out: several times faster than numpy.cross)."""
+    a, b = np.moveaxis(a, axis, 0), np.moveaxis(b, axis, 0)
+    c = np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+    return np.moveaxis(c, 0, axis)
 
 
 def frame(t1: np.ndarray, t2: np.ndarray, axis: int = -1) -> tuple[np.ndarray, np.ndarray]:
@@ -55,8 +63,8 @@ def frame(t1: np.ndarray, t2: np.ndarray, axis: int = -1) -> tuple[np.ndarray, n
     Where the tangents are parallel (a degenerate surface) the normal is NaN:
     callers that can meet such points must guard them.
     """
-    c = np.cross(t1, t2, axis=axis)
-    area = np.linalg.norm(c, axis=axis)
+    c = cross(t1, t2, axis=axis)
+    area = np.sqrt(dot(c, c, axis=axis))
     with np.errstate(invalid="ignore", divide="ignore"):
         return c / np.expand_dims(area, axis), area
 

@@ -45,7 +45,7 @@ from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_st
 from deformable.scene import Scene
 from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
 
-from .energy import DiscreteEnergy
+from .energy import DiscreteEnergy, SlotMap
 from .operators import node_tensors, operators, tangents, valid_rows
 from .strength import StrengthMatrix
 
@@ -115,8 +115,9 @@ class FDModel:
             rw = self.row_weight
             stretch_rows = np.array([[rw["D1"], rw["D12"]], [rw["D12"], rw["D2"]]])
             bend_rows = np.array([[rw["D11"], rw["D12"]], [rw["D12"], rw["D22"]]])
-            self._energy = DiscreteEnergy(self.ops, tangents(M, N, self.h1, self.h2), (M, N), self.spacing,
-                                          area * stretch_rows * self.eta, area * bend_rows * self.xi, self.G0, self.B0)
+            slots = SlotMap(self.ops, tangents(M, N, self.h1, self.h2), (M, N))
+            G0, B0 = scene.rest_tensors(self.a1, self.a2, *slots.tensors(self.discretize(sheet.rest), (M, N)))
+            self._energy = DiscreteEnergy(slots, area * stretch_rows * self.eta, area * bend_rows * self.xi, G0, B0)
         self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
                           clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=2)))
 

@@ -37,9 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from deformable import tensors
-
-__all__ = ["cubic_hermite", "LOCAL", "basis", "evaluate", "surface_tensors", "NODE_DOFS", "DERIVATIVES"]
+__all__ = ["cubic_hermite", "LOCAL", "basis", "evaluate", "NODE_DOFS", "DERIVATIVES"]
 
 NODE_DOFS = 4  # r, h1 r_1, h2 r_2, h1 h2 r_12
 
@@ -120,26 +118,3 @@ def evaluate(X: np.ndarray, ldofs: np.ndarray, tables: list) -> np.ndarray:
     E = ldofs.shape[0]
     out = (Xl.reshape(-1, Xl.shape[-1]) @ D).reshape(3, E, len(tables), -1)
     return np.ascontiguousarray(out.transpose(0, 2, 1, 3))  # contiguous: the tensor algebra runs faster
-
-
-def surface_tensors(d: np.ndarray, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-    """G (eq. 4) and B (eq. 8) from the derivatives r_1, r_2, r_11, r_12, r_22 at points.
-
-    Parameters
-    ----------
-    d : array (3, 5, *pts)
-        The derivatives in the order of ``DERIVATIVES[1:]`` (:func:`evaluate`).
-    curvature : bool
-        With False, B is None (no normal is formed, so a sheet with degenerate
-        tangents can still be stretched).
-
-    Returns
-    -------
-    G, B : arrays (2, 2, *pts)
-    """
-    dr = d[:, 0:2]
-    G = tensors.metric(dr)
-    if not curvature:
-        return G, None
-    ddr = np.stack([d[:, 2:4], d[:, 3:5]], axis=1)  # (3, 2, 2, *pts): [[r11, r12], [r12, r22]]
-    return G, tensors.curvature(ddr, tensors.normal(dr))

@@ -86,11 +86,12 @@ from deformable.backend import Energy, Sample, kinetic_energy
 from deformable.constraints import hold
 from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
                                    require_strength_matrix)
+from deformable.integrand import FE_SLOTS, slot_tensors
 from deformable.scene import Scene
 from deformable.sheet import as_surface, bilinear
 
-from .energy import DiscreteEnergy
-from .hermite import DERIVATIVES, LOCAL, NODE_DOFS, basis, evaluate, surface_tensors
+from .energy import DiscreteEnergy, gauss_tensors
+from .hermite import DERIVATIVES, LOCAL, NODE_DOFS, basis, evaluate
 from .strength import StrengthMatrix
 
 __all__ = ["FEModel", "ELEMENTS", "GAUSS_POINTS", "MEMBRANE_EIGENVALUE"]
@@ -261,7 +262,7 @@ class FEModel:
         With ``curvature=False`` B is None (no normal is formed, so a sheet
         with degenerate tangents can still be stretched).
         """
-        return surface_tensors(self.derivatives(X), curvature)
+        return gauss_tensors(self._check_state(X), self.ldofs, self.dq, curvature)
 
     def alpha_beta(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """alpha_ij and beta_ij of eq. (15) at the Gauss points, two (2, 2, E, nq) arrays."""
@@ -296,9 +297,9 @@ class FEModel:
         for lo in range(0, e.size, _CHUNK):  # chunks of points, to bound memory
             sl = slice(lo, lo + _CHUNK)
             Xl = X[self.ldofs[e[sl]]]  # (P, 16, 3)
-            v = np.stack([np.einsum("plc,lp->cp", Xl, basis(s[sl], t[sl], h, d)) for d in DERIVATIVES], axis=1)
-            r[sl] = v[:, 0].T
-            Gs, Bs = surface_tensors(v[:, 1:])
+            v = np.stack([np.einsum("plc,lp->pc", Xl, basis(s[sl], t[sl], h, d)) for d in DERIVATIVES], axis=1)
+            r[sl] = v[:, 0]
+            Gs, Bs = slot_tensors(v[:, 1:], FE_SLOTS)
             G[sl], B[sl] = np.moveaxis(Gs, -1, 0), np.moveaxis(Bs, -1, 0)
         return Sample(r=r, G=G, B=B)
 

@@ -1,16 +1,24 @@
-"""The README's library example runs as written."""
+"""The README's library example runs as written, and so does its FE drop-in."""
 
 import re
 from pathlib import Path
 
+import pytest
+
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
-def test_readme_library_example_runs(capsys):
-    text = README.read_text()
-    section = text.split("## Library example", 1)[1]
-    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
-    assert len([line for line in code.splitlines() if line.strip()]) <= 8
+def library_example() -> str:
+    section = README.read_text().split("## Library example", 1)[1]
+    return re.search(r"```python\n(.*?)```", section, re.S).group(1)
+
+
+@pytest.mark.parametrize("backend", ["FDModel", "FEModel"])
+def test_readme_library_example_runs_on_both_backends(backend, capsys):
+    code = library_example()
+    assert len([line for line in code.splitlines() if line.strip()]) <= 9
+    if backend == "FEModel":  # "FEModel(scene) from femodel is a drop-in replacement for FDModel(scene)"
+        code = code.replace("from fdmodel import FDModel", "from femodel import FEModel").replace("FDModel(", "FEModel(")
     exec(compile(code, "README.md", "exec"), {})
     out = capsys.readouterr().out
     assert "steps to t = 1 s" in out and "Energy(stretching=" in out

@@ -7,9 +7,9 @@
 - :mod:`.implicit`: implicit Euler and Newmark on an incremental potential.
 """
 
-from .state import DivergenceError, RunResult, State
+from .state import DivergenceError, RunResult, StalledError, State
 from .stepper import SCHEMES, TimeStepper
 from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Stop, Tracker
 
-__all__ = ["DivergenceError", "RunResult", "State", "SCHEMES", "TimeStepper", "Callback", "DivergenceGuard",
+__all__ = ["DivergenceError", "RunResult", "StalledError", "State", "SCHEMES", "TimeStepper", "Callback", "DivergenceGuard",
            "EnergyMonitor", "ProgressBar", "Stop", "Tracker"]

@@ -3,7 +3,7 @@ r"""Implicit time steps for models with an energy (the "variational" and "frozen
 For a model whose internal force is the gradient of an energy E (the exact
 gradient of eq. (13), or the quadratic energy of the frozen model), each step
 minimises an incremental potential over the free degrees of freedom by
-Newton's method (:func:`deformable.newton.minimise`). With M, C, F the
+Newton's method (:class:`deformable.newton.Newton`). With M, C, F the
 backend's integrated matrices and load and x-hat = x_n + dt v_n:
 
 - ``"implicit-euler"`` (first order, dissipative: with gamma = 0 and no load the
@@ -19,24 +19,33 @@ backend's integrated matrices and load and x-hat = x_n + dt v_n:
       a_{n+1} = 4 (x_{n+1} - x-hat) / dt^2 - a_n,   v_{n+1} = 2 (x_{n+1} - x_n) / dt - v_n
 
 The stationarity of Phi is the equation of motion (11) at t_{n+1} in each scheme.
+
+dt may change from step to step (the controller halves it when Newton does
+not converge and lets it grow back): both schemes take the step length as an
+argument. A step whose Newton solve does not reach its tolerance is never
+returned: it raises :class:`StepRejected`.
 """
 
 from __future__ import annotations
 
-import logging
-import time
 
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from ..newton import ConvergenceError, FlatEnergy, flat, minimise, unflat
+from ..newton import ConvergenceError, FlatEnergy, Newton, NewtonSettings, flat, unflat
 from .state import DivergenceError, State
 
-__all__ = ["Implicit", "IMPLICIT_SCHEMES"]
-
-log = logging.getLogger(__name__)
+__all__ = ["Implicit", "IMPLICIT_SCHEMES", "StepRejected"]
 
 IMPLICIT_SCHEMES = ("implicit-euler", "newmark")
+
+
+class StepRejected(RuntimeError):
+    """Newton did not reach its tolerance in a step; ``report`` says how far it got (the step is not taken)."""
+
+    def __init__(self, message: str, report=None):
+        super().__init__(message)
+        self.report = report
 
 
 class Implicit:
@@ -45,26 +54,28 @@ class Implicit:
     Parameters
     ----------
     model : Backend with an energy (force model "variational" or "frozen")
-    dt : float
     scheme : "implicit-euler" | "newmark"
-    rtol, atol : float
-        Newton stops when the max-norm of the free residual is below
-        ``max(rtol * initial residual, atol)`` (atol in N).
-    max_iter : int
+    newton : NewtonSettings or dict, optional
+        rtol, atol, max_iter, hessian, solver, reuse (:class:`deformable.newton.NewtonSettings`).
 
     Attributes
     ----------
-    reports : list of NewtonReport, one per step
+    reports : list of NewtonReport, one per accepted step
+    rejected : int
+        Steps whose Newton solve failed (and were retried by the controller).
     timings : dict
-        Seconds spent in "solve" (the whole Newton solve of each step).
+        Seconds spent in the Newton solves: "hessian", "factor", "solve", "search".
     """
 
-    def __init__(self, model, dt, scheme, rtol=1e-9, atol=1e-12, max_iter=30):
-        self.model, self.dt, self.name = model, dt, scheme
-        self.rtol, self.atol, self.max_iter = rtol, atol, max_iter
+    adaptive = True
+
+    def __init__(self, model, scheme: str, newton: NewtonSettings | dict | None = None):
+        self.model, self.name = model, scheme
         self.flat = FlatEnergy(model)
+        self.newton = Newton(self.flat, newton)
         self.reports: list = []
-        self.timings = {"solve": 0.0}
+        self.rejected = 0
+        self.timings = {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0}
         self._acc = None  # (step, t, a_n) for Newmark
 
     def acceleration(self, state) -> np.ndarray:
@@ -76,26 +87,29 @@ class Implicit:
         a[f] = spla.spsolve(fl.M[f][:, f].tocsc(), rhs[f])
         return a
 
-    def step(self, state: State, X0: np.ndarray) -> State:
-        """The state at t + dt; ``X0`` is the run's constraint reference."""
-        t_start = time.perf_counter()
-        fl, dt = self.flat, self.dt
+    def step(self, state: State, X0: np.ndarray, dt: float) -> State:
+        """The state at t + dt; ``X0`` is the run's constraint reference.
+
+        Raises StepRejected when Newton does not converge (the state is not advanced), DivergenceError
+        when positions leave the finite numbers.
+        """
+        fl = self.flat
         t1 = state.t + dt
         xn, vn = flat(state.X), flat(state.V)
         xhat = xn + dt * vn
         F = fl.load(state.X, t1)
         M, C = fl.M, fl.C
         if self.name == "implicit-euler":
+            cm, cc = 1 / dt**2, 1 / dt
+
             def phi(x):
                 dx, dn = x - xhat, x - xn
                 return 0.5 * dx @ (M @ dx) / dt**2 + 0.5 * dn @ (C @ dn) / dt + fl.energy(x) - F @ x
 
             def grad(x):
                 return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x) - F
-
-            def hess(x, kind):
-                return M / dt**2 + C / dt + fl.hessian(x, kind)
         else:
+            cm, cc = 4 / dt**2, 2 / dt
             if self._acc is None or self._acc[0] != state.step or self._acc[1] != state.t:
                 self._acc = (state.step, state.t, self.acceleration(state))
             an = self._acc[2]
@@ -109,24 +123,21 @@ class Implicit:
             def grad(x):
                 return 4 * M @ (x - xhat) / dt**2 - Man + 2 * C @ (x - xn) / dt - Cvn + fl.gradient(x) - F
 
-            def hess(x, kind):
-                return 4 * M / dt**2 + 2 * C / dt + fl.hessian(x, kind)
-
-        x = fl.hold(xhat, X0, t1)
+        label = f"{self.name} step {state.step + 1} (t = {t1:.6g} s, dt = {dt:.3g} s)"
         try:
-            x, report = minimise(phi, grad, hess, x, fl.free, rtol=self.rtol, atol=self.atol,
-                                 max_iter=self.max_iter, label=f"{self.name} step {state.step + 1}",
-                                 max_step=fl.max_step)
+            x, report = self.newton.minimise(phi, grad, fl.hold(xhat, X0, t1), cm, cc, label)
         except ConvergenceError as err:
-            raise DivergenceError(f"diverged at step {state.step + 1} (t = {t1:.6g} s): {err}", state) from err
-        finally:
-            self.timings["solve"] += time.perf_counter() - t_start
-        self.reports.append(report)
-        if not report.converged:
-            log.warning("%s step %d: Newton stopped after %d iterations at residual %.3e",
-                        self.name, state.step + 1, report.iterations, report.residuals[-1])
+            self.rejected += 1
+            raise StepRejected(str(err)) from err
+        for k, v in report.seconds.items():
+            self.timings[k] += v
         if not np.all(np.isfinite(x)):
             raise DivergenceError(f"diverged at step {state.step + 1} (t = {t1:.6g} s): non-finite positions", state)
+        if not report.converged:
+            self.rejected += 1
+            raise StepRejected(f"{label}: Newton stopped after {report.iterations} iterations at residual "
+                               f"{report.residuals[-1]:.3e} N", report)
+        self.reports.append(report)
         if self.name == "implicit-euler":
             v = (x - xn) / dt
         else:

@@ -19,8 +19,10 @@ Cost: K(r) keeps its sparsity pattern, so A_t lives on one fixed pattern
 whose data is refilled each step (:class:`deformable.assembly.ReducedSystem`);
 constrained degrees of freedom are eliminated through precomputed gathers;
 each group of coordinates that shares its constraints is factorised once per
-step and solved for all its right-hand sides together. When the model is
-linear (the "frozen" force model) the factorisation is done once for the run.
+step (:mod:`deformable.linalg`: SuperLU with a symmetric ordering, or PARDISO
+when installed) and solved for all its right-hand sides together. When the
+model is linear (the "frozen" force model) the factorisation is done once for
+the run.
 """
 
 from __future__ import annotations
@@ -28,16 +30,12 @@ from __future__ import annotations
 import time
 
 import numpy as np
-import scipy.sparse.linalg as spla
 
 from ..assembly import ReducedSystem
+from ..linalg import SPLU_OPTIONS, make_solver
 from .state import DivergenceError, State
 
 __all__ = ["SemiImplicit", "SPLU_OPTIONS"]
-
-#: SuperLU options of the step's factorisation: A_t is symmetric, so a symmetric
-#: ordering (minimum degree on A^T + A) and diagonal pivots
-SPLU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True), diag_pivot_thresh=0.0)
 
 
 class SemiImplicit:
@@ -48,6 +46,8 @@ class SemiImplicit:
     model : Backend
     dt : float
         Time step (s).
+    solver : str
+        "auto", "superlu" or "pardiso" (:func:`deformable.linalg.make_solver`).
 
     Attributes
     ----------
@@ -56,9 +56,10 @@ class SemiImplicit:
     """
 
     name = "semi-implicit"
+    adaptive = False
 
-    def __init__(self, model, dt: float):
-        self.model, self.dt = model, dt
+    def __init__(self, model, dt: float, solver: str = "auto"):
+        self.model, self.dt, self.solver = model, dt, solver
         self.timings = {"assembly": 0.0, "factorisation": 0.0, "solve": 0.0}
         M, C = model.mass(), model.damping()
         self._B1 = (M / dt**2 + C / (2 * dt)).tocsr()  # multiplies R_t in (26)
@@ -72,6 +73,7 @@ class SemiImplicit:
             sets[f.tobytes()] = f
         self._groups = [(sets[k], comps) for k, comps in groups.items()]
         self._system = None
+        self._solvers = None
         self._lu_cache = None
 
     def _factorise(self, X):
@@ -87,9 +89,11 @@ class SemiImplicit:
         A = self._system.data(K)
         t1 = time.perf_counter()
         factors = []
-        for block in self._system.blocks:
+        if self._solvers is None:  # one solver per block: each keeps its pattern's analysis
+            self._solvers = [make_solver(self.solver) for _ in self._system.blocks]
+        for block, solver in zip(self._system.blocks, self._solvers):
             Aff, Afc = self._system.matrices(A, block)
-            factors.append((block, spla.splu(Aff, **SPLU_OPTIONS), Afc))
+            factors.append((block, solver.factor(Aff), Afc))
         t2 = time.perf_counter()
         self.timings["assembly"] += t1 - t0
         self.timings["factorisation"] += t2 - t1
@@ -97,8 +101,10 @@ class SemiImplicit:
             self._lu_cache = factors
         return factors
 
-    def step(self, state: State, X0: np.ndarray) -> State:
-        """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference."""
+    def step(self, state: State, X0: np.ndarray, dt: float | None = None) -> State:
+        """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference (dt: this scheme's own)."""
+        if dt is not None and dt != self.dt:
+            raise ValueError(f"the semi-implicit step has a fixed dt = {self.dt!r} s, got {dt!r}")
         dt, model = self.dt, self.model
         factors = self._factorise(state.X)
         t0 = time.perf_counter()

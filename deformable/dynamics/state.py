@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["State", "RunResult", "DivergenceError"]
+__all__ = ["State", "RunResult", "DivergenceError", "StalledError"]
 
 
 @dataclass(frozen=True)
@@ -27,12 +27,22 @@ class DivergenceError(RuntimeError):
         self.state = state
 
 
+class StalledError(RuntimeError):
+    """An implicit step did not converge even at the smallest allowed dt; ``state`` is the last good one."""
+
+    def __init__(self, message: str, state: State):
+        super().__init__(message)
+        self.state = state
+
+
 @dataclass
 class RunResult:
     """Outcome of :meth:`deformable.TimeStepper.run`.
 
     ``state`` is the last good state; ``status`` is "finished", "stopped" (a
-    tracker asked to stop) or "diverged"; ``message`` says why.
+    tracker asked to stop), "diverged" (non-finite, or a tracker's bound) or
+    "stalled" (an implicit step did not converge down to the smallest dt);
+    ``message`` says why.
     """
 
     state: State

@@ -15,6 +15,20 @@ nothing of the run:
 
 The old name of the paper's scheme, ``"tpbf87"`` (also a force model's name),
 is still accepted with a DeprecationWarning.
+
+Step size. ``dt="auto"`` takes the semi-implicit scheme's stable step from the
+backend (half of :meth:`~deformable.backend.Backend.stable_step`, rounded
+down to two significant digits); the implicit schemes are stable at any dt, and "auto"
+lets them choose it: at most ten times the stretching bound of an explicit
+step on the same grid, smaller while Newton needs many iterations
+(:data:`TARGET_ITERATIONS`). The implicit schemes adapt dt: a step whose
+Newton solve does not reach its tolerance is retried with half the step, and
+dt grows back (doubling after :data:`GROW_AFTER` accepted steps) up to the
+requested one; a run that would
+need a step below ``dt_min`` (default the requested dt / 2^10) stops with the
+status "stalled" and its last good state. A run to ``t_end`` with an implicit
+scheme shortens its last step to end exactly there; the semi-implicit scheme
+runs ``round((t_end - t) / dt)`` steps of its fixed dt.
 """
 
 from __future__ import annotations
@@ -26,17 +40,33 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
-from .implicit import IMPLICIT_SCHEMES, Implicit
+from ..elasticity import stretching_step
+from .implicit import IMPLICIT_SCHEMES, Implicit, StepRejected
 from .semi_implicit import SemiImplicit
-from .state import DivergenceError, RunResult, State
+from .state import DivergenceError, RunResult, StalledError, State
 from .trackers import DivergenceGuard, ProgressBar, Stop
 
-__all__ = ["TimeStepper", "SCHEMES"]
+__all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down"]
 
 log = logging.getLogger(__name__)
 SCHEMES = ("semi-implicit",) + IMPLICIT_SCHEMES
 #: former scheme names -> current ones
 _RENAMED = {"tpbf87": "semi-implicit"}
+#: an adapted dt doubles after this many accepted steps in a row (up to the requested dt)
+GROW_AFTER = 4
+#: with dt = "auto", the implicit schemes also aim at this many Newton iterations a step: dt halves after a step
+#: that took more than twice as many, and grows by half after one that took at most half as many
+TARGET_ITERATIONS = 4
+#: the implicit schemes' "auto" dt, in units of the explicit stretching bound
+_IMPLICIT_AUTO = 10.0
+
+
+def round_down(x: float, digits: int = 2) -> float:
+    """x rounded down to ``digits`` significant digits (a step never above the bound it comes from)."""
+    if not np.isfinite(x) or x <= 0:
+        return x
+    scale = 10.0 ** (np.floor(np.log10(x)) - digits + 1)
+    return float(np.floor(x / scale * (1 + 1e-12)) * scale)
 
 
 class TimeStepper:
@@ -46,24 +76,31 @@ class TimeStepper:
     ----------
     model : Backend
         FDModel or FEModel (anything satisfying :class:`deformable.Backend`).
-    dt : float
-        Time step (s), positive.
+    dt : float or "auto"
+        Time step (s), positive; "auto": the backend's own (module docstring).
     scheme : str, optional
         "semi-implicit" (eq. 22-27, the default for the tpbf87 and frozen
         models), "implicit-euler" (the default for the variational model) or
         "newmark" (second order): Newton steps on an incremental potential,
         for models with an energy (:mod:`deformable.dynamics.implicit`).
-    newton : dict, optional
-        rtol, atol, max_iter of the Newton solves of the implicit schemes.
+    newton : dict or NewtonSettings, optional
+        rtol, atol, max_iter, hessian, solver, reuse of the Newton solves of the
+        implicit schemes (:class:`deformable.newton.NewtonSettings`).
+    dt_min : float, optional
+        The smallest step the implicit schemes may adapt down to (default dt / 2^10).
+    solver : str
+        The linear solver of the semi-implicit scheme ("auto", "superlu", "pardiso").
+
+    Attributes
+    ----------
+    dt : float
+        The requested step (s); ``dt_now`` is the current one of an adaptive run.
+    rejected : int
+        Steps retried with a smaller dt.
     """
 
-    def __init__(self, model, dt: float, scheme: str | None = None, newton: dict | None = None):
-        try:
-            dt = float(dt)
-        except (TypeError, ValueError):
-            raise ValueError(f"dt must be a positive number, got {dt!r}") from None
-        if not np.isfinite(dt) or dt <= 0:
-            raise ValueError(f"dt must be positive and finite, got {dt!r}")
+    def __init__(self, model, dt, scheme: str | None = None, newton=None, dt_min: float | None = None,
+                 solver: str = "auto"):
         force_model = model.scene.force_model
         if scheme in _RENAMED:
             warnings.warn(f"scheme {scheme!r} is now called {_RENAMED[scheme]!r}", DeprecationWarning, stacklevel=2)
@@ -77,23 +114,87 @@ class TimeStepper:
         if scheme != "semi-implicit" and force_model == "tpbf87":
             raise ValueError(f"scheme {scheme!r} needs an energy; the tpbf87 force (14) is not a gradient "
                              "(use force_model 'variational', or scheme 'semi-implicit')")
-        self.model, self.dt, self.scheme = model, dt, scheme
-        self._scheme = (SemiImplicit(model, dt) if scheme == "semi-implicit"
-                        else Implicit(model, dt, scheme, **(newton or {})))
+        self.model, self.scheme = model, scheme
+        self.auto = isinstance(dt, str) and dt == "auto"
+        self.dt = self._resolve_dt(dt)
+        if dt_min is None:
+            dt_min = self.dt / 2**10
+        if isinstance(dt_min, bool) or not isinstance(dt_min, (int, float)) or not 0 < dt_min <= self.dt:
+            raise ValueError(f"dt_min must be a positive number not above dt = {self.dt:g} s, got {dt_min!r}")
+        self.dt_min, self.dt_now, self.rejected = float(dt_min), self.dt, 0
+        self._accepted = 0
+        self._scheme = (SemiImplicit(model, self.dt, solver) if scheme == "semi-implicit"
+                        else Implicit(model, scheme, newton))
+
+    def _resolve_dt(self, dt) -> float:
+        model = self.model
+        if isinstance(dt, str) and dt == "auto":
+            if self.scheme == "semi-implicit":
+                bound = model.stable_step()
+                if not np.isfinite(bound):
+                    raise ValueError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
+                                     "stretching bound; give dt")
+                return round_down(0.5 * bound)
+            mat, h = model.scene.material, min(model.scene.sheet.h)
+            weight = np.asarray(mat.alpha if model.scene.force_model == "frozen" else mat.eta)
+            bound = stretching_step(float(np.min(mat.mu)), float(np.max(weight)) if weight.size else 0.0, 4 / h**2)
+            if not np.isfinite(bound):
+                raise ValueError("dt 'auto' needs a stretching weight to set the step; give dt")
+            return round_down(_IMPLICIT_AUTO * bound)
+        try:
+            dt = float(dt)
+        except (TypeError, ValueError):
+            raise ValueError(f"dt must be a positive number or 'auto', got {dt!r}") from None
+        if not np.isfinite(dt) or dt <= 0:
+            raise ValueError(f"dt must be positive and finite, got {dt!r}")
+        return dt
 
     @property
     def timings(self) -> dict:
-        """Seconds per part of the steps so far: semi-implicit "assembly", "factorisation", "solve"; implicit "solve"."""
+        """Seconds per part of the steps so far (semi-implicit: assembly, factorisation, solve; implicit: the
+        Newton solves' hessian, factor, solve, search)."""
         return self._scheme.timings
 
     @property
+    def newton(self):
+        """The :class:`deformable.newton.Newton` of an implicit scheme (None for the semi-implicit one)."""
+        return getattr(self._scheme, "newton", None)
+
+    @property
     def newton_reports(self) -> list:
-        """Newton iterations and residuals per step of the implicit schemes (empty for the semi-implicit one)."""
+        """Newton iterations and residuals per accepted step of the implicit schemes (empty for the semi-implicit one)."""
         return getattr(self._scheme, "reports", [])
 
-    def step(self, state: State) -> State:
-        """Advance one step; the state at t + dt."""
-        return self._scheme.step(state, self._X0)
+    def step(self, state: State, dt: float | None = None) -> State:
+        """Advance one step (of ``dt``, default the current one); implicit schemes retry with smaller steps.
+
+        Raises StalledError (with the last good state) when the step would fall below ``dt_min``, and
+        DivergenceError when positions leave the finite numbers.
+        """
+        if not self._scheme.adaptive:
+            return self._scheme.step(state, self._X0)
+        dt = self.dt_now if dt is None else min(dt, self.dt_now)
+        while True:
+            try:
+                new = self._scheme.step(state, self._X0, dt)
+            except StepRejected as err:
+                self.rejected += 1
+                self._accepted = 0
+                dt *= 0.5
+                self.dt_now = min(self.dt_now, dt)
+                if dt < self.dt_min:
+                    raise StalledError(f"stalled at t = {state.t:.6g} s: no step down to dt_min = {self.dt_min:.3g} s "
+                                       f"converges ({err})", state) from err
+                continue
+            self._accepted += 1
+            iterations = self._scheme.reports[-1].iterations
+            if self.auto and iterations > 2 * TARGET_ITERATIONS:
+                self.dt_now, self._accepted = max(0.5 * dt, self.dt_min), 0
+            elif self.auto and iterations <= TARGET_ITERATIONS // 2 and self.dt_now < self.dt:
+                self.dt_now = min(1.5 * self.dt_now, self.dt)
+            elif self._accepted >= GROW_AFTER and self.dt_now < self.dt:
+                self.dt_now, self._accepted = min(2 * self.dt_now, self.dt), 0
+            return new
 
     def start(self, X0: np.ndarray, V0: np.ndarray | None = None, t0: float = 0.0) -> State:
         """The initial state; also fixes the reference positions of the constraints."""
@@ -106,17 +207,29 @@ class TimeStepper:
         self._X0 = X0
         return State(t=float(t0), X=X0, V=V0, step=0)
 
-    def iterate(self, X0, steps: int, V0=None, t0: float = 0.0) -> Iterator[State]:
-        """Yield the states after each of ``steps`` steps from (X0, V0) at t0.
+    def iterate(self, X0, steps: int | None = None, V0=None, t0: float = 0.0,
+                 t_end: float | None = None) -> Iterator[State]:
+        """Yield the state after each step from (X0, V0) at t0: ``steps`` of them, or until ``t_end``.
 
-        Raises DivergenceError (with the last good state) if positions become non-finite.
+        With an implicit scheme the last step before ``t_end`` is shortened to end on it. Raises
+        DivergenceError if positions become non-finite and StalledError if dt falls below ``dt_min``
+        (each with the last good state).
         """
         state = X0 if isinstance(X0, State) else self.start(X0, V0, t0)
         if isinstance(X0, State) and not hasattr(self, "_X0"):
             self._X0 = X0.X
-        for _ in range(int(steps)):
-            state = self.step(state)
+        if t_end is not None and not self._scheme.adaptive:
+            steps, t_end = self._steps_to(state, t_end), None
+        count = 0
+        while (steps is None or count < steps) and (t_end is None or t_end - state.t > 1e-12 * max(1.0, t_end)):
+            state = self.step(state, None if t_end is None else t_end - state.t)
+            count += 1
             yield state
+
+    def _steps_to(self, state: State, t_end: float) -> int:
+        if not np.isfinite(t_end) or t_end <= state.t:
+            raise ValueError(f"t_end must be later than the start time {state.t}, got {t_end!r}")
+        return int(round((t_end - state.t) / self.dt))
 
     # -- a controlled run ---------------------------------------------------
     def run(
@@ -141,30 +254,33 @@ class TimeStepper:
         state = self.start(X0, V0, t0)
         if resume is not None:
             state = resume
+        first = state.step
         if (t_end is None) == (steps is None):
             raise ValueError("give exactly one of t_end and steps")
         if steps is None:
-            if not np.isfinite(t_end) or t_end <= state.t:
-                raise ValueError(f"t_end must be later than the start time {state.t}, got {t_end!r}")
-            steps = int(round((t_end - state.t) / self.dt))
+            expected = self._steps_to(state, t_end)  # checks t_end; the implicit schemes end on it exactly
+            if not self._scheme.adaptive:
+                steps, t_end = expected, None
         elif int(steps) != steps or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
-        steps = int(steps)
+        else:
+            steps = expected = int(steps)
         trackers = list(trackers)
         if not any(isinstance(tr, DivergenceGuard) for tr in trackers):
             trackers.insert(0, DivergenceGuard())
         if progress:
             trackers.append(ProgressBar())
         for tr in trackers:
-            tr.initialize(state, self, steps)
+            tr.initialize(state, self, expected)
         status, message = "finished", ""
         start = time.perf_counter()
-        last = state.step + steps
+        last = None if steps is None else state.step + steps
         try:
-            for new in self.iterate(state, steps):
+            for new in self.iterate(state, steps, t_end=t_end):
+                final = new.step == last or (t_end is not None and t_end - new.t <= 1e-12 * max(1.0, t_end))
                 stop = None
                 for tr in trackers:
-                    if new.step % tr.every == 0 or new.step == last:
+                    if new.step % tr.every == 0 or final:
                         stop = tr.handle(new) or stop
                         if isinstance(stop, Stop) and stop.diverged:
                             break
@@ -177,13 +293,15 @@ class TimeStepper:
                     break
         except DivergenceError as err:
             status, message, state = "diverged", str(err), err.state
+        except StalledError as err:
+            status, message, state = "stalled", str(err), err.state
         wall = time.perf_counter() - start
         if status == "finished":
-            message = f"{steps} steps to t = {state.t:.6g} s"
+            message = f"{state.step - first} steps to t = {state.t:.6g} s"
         result = RunResult(state=state, status=status, message=message, steps=state.step, wall_time=wall,
                            trackers=trackers)
         for tr in trackers:
             tr.finalize(result)
-        if status == "diverged":
+        if status in ("diverged", "stalled"):
             log.warning("run %s; last good state at t = %.6g s", message, state.t)
         return result

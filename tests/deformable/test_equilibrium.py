@@ -94,3 +94,23 @@ def test_equilibrium_says_when_it_does_not_converge():
         dm.equilibrium(make_model(dm.Scene(model.scene.sheet, model.scene.material), "fd"), model.initial_state())
     with pytest.raises(ValueError, match="load_steps must be a positive integer"):
         dm.equilibrium(model, model.initial_state(), load_steps=0)
+
+
+@pytest.mark.parametrize("backend, along, across", [("fd", 41, 5), ("fd", 81, 9), ("fe", 17, 3), ("fe", 33, 3)])
+def test_the_cantilever_reaches_its_large_deflection_from_flat_in_at_most_20_newton_iterations(backend, along, across):
+    """Sze, Liu and Lo's cantilever (L = 10, b = 1, E h = 1.2e5, D = 100, nu = 0: eta = E h / 8, xi = D / 2,
+    the variational model's St Venant-Kirchhoff constants) under a dead tip shear P L^2 / EI = 4, from flat,
+    one load step: the definite Newton matrix and the watchdog search reach the tolerance within 20
+    iterations, at the elastica's tip (-u/L, w/L) = (0.3289, 0.6700) to the discretisation error."""
+    Lc, b, eta, xi, load = 10.0, 1.0, 1.2e5 / 8, 100.0 / 2, 4.0
+    P = load * 2 * xi * b / Lc**2
+    scene = dm.Scene(dm.Sheet(size=(Lc, b), nodes=(along, across)),
+                     dm.Material(eta=np.full((2, 2), eta), xi=np.full((2, 2), xi)), force_model="variational",
+                     forces=[dm.EdgeLoad("right", f=(0.0, 0.0, -P / b))], constraints=[dm.Clamp("left")])
+    model = make_model(scene, backend, **({"weighting": "control-area"} if backend == "fd" else {}))
+    X, history = dm.equilibrium(model, model.initial_state())
+    assert len(history) - 1 <= 20, f"{len(history) - 1} Newton iterations"
+    tip = model.grid(X)[-1, across // 2]
+    u, w = (Lc - tip[0]) / Lc, -tip[2] / Lc
+    h = model.spacing[0] / Lc
+    assert abs(u - 0.32894) < 2 * h and abs(w - 0.66996) < 2 * h  # FD's clamp: O(h); FE far closer

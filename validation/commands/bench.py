@@ -1,31 +1,37 @@
-r"""``deformable bench``: the cost of one time step against one sparse direct solve.
+r"""``deformable bench``: what a time step costs, against the linear algebra it cannot avoid, in one run.
 
-For each backend and grid size the ``hanging`` scene (tpbf87, so K(r) is
-refilled every step, eq. (20); xi = 1e-6 and a smooth initial bump so that every
-entry of K's pattern carries a value) is stepped K times with the semi-implicit scheme
-of eq. (22)-(27). :attr:`deformable.TimeStepper.timings` splits the step into
-assembly (K(r) and A_t), factorisation and solve. In the same run, the
-reference is one ``scipy.sparse.linalg.splu`` factorisation with default
-options of the same matrix
+Two tables, each row measured in a process of its own (so that its peak
+memory, the process's maximum resident set, is its own):
+
+Semi-implicit rows (the paper's eq. (22)-(27)). The ``hanging`` scene (tpbf87,
+so K(r) is refilled every step, eq. (20); xi = 1e-6 and a smooth initial bump
+so that every entry of K's pattern carries a value) is stepped K times at the
+backend's own stable step. :attr:`deformable.TimeStepper.timings` splits the
+step into assembly (K(r) and A_t), factorisation and solve. The references,
+in the same run: one factorisation of the same matrix
 
     A_t = K(r_t) + M/dt^2 + C/(2 dt)        (25)
 
 reduced to the free degrees of freedom, and one solve with 3 right-hand sides
-(x, y, z). The ratio step / (factor + solve) says what the step costs beyond
-the linear algebra it cannot avoid; issue 2's target for the FD backend is at
-most 1.5 at 128 x 128 and 256 x 256. A second reference uses the stepper's own
-SuperLU options (:data:`deformable.dynamics.semi_implicit.SPLU_OPTIONS`, a symmetric
-ordering), so the second ratio isolates the cost of assembly and bookkeeping
-from the choice of ordering.
+(x, y, z), by ``scipy.sparse.linalg.splu`` with its default options (COLAMD),
+and by the stepper's own solver (:mod:`deformable.linalg`). The ratio step /
+(factor + solve) says what the step costs beyond the linear algebra.
 
-The benchmark is written over the :class:`deformable.Backend` protocol; the FE
-backend rows (``--backend fe``) step at FE's own stable step.
+Implicit rows (the energy-consistent model). The ``curtain`` scene under the
+variational force model, implicit Euler at dt = 5 ms, stepped K times after
+one warm-up step: Newton iterations and factorisations per step, ms per
+iteration, the ratio of an iteration to one factorisation and solve of its
+own Newton matrix with the same solver, and the ratio of the step to the
+semi-implicit step of the same scene and grid under the paper's force (at its
+own stable dt). FD rows are given in nodes a side, FE rows in elements a side.
 """
 
 from __future__ import annotations
 
 import csv
 import logging
+import multiprocessing as mp
+import resource
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -36,32 +42,55 @@ import scipy.sparse.linalg as spla
 
 from deformable import scenes
 from deformable.dynamics import TimeStepper
-from deformable.dynamics.semi_implicit import SPLU_OPTIONS
+from deformable.linalg import make_solver
+from deformable.newton import flat
 from validation.harness.backends import make_model
 
-__all__ = ["configure", "execute", "BenchRow", "bench_one", "format_table"]
+__all__ = ["configure", "execute", "BenchRow", "ImplicitRow", "bench_one", "bench_implicit", "format_table",
+           "format_implicit"]
 
 log = logging.getLogger(__name__)
+#: the implicit rows' step (s)
+IMPLICIT_DT = 5e-3
 
 
 def configure(parser) -> None:
     """Arguments of ``deformable bench``."""
-    parser.add_argument("--backend", default="fd", help="fd, fe or all")
-    parser.add_argument("--sizes", default="32,64,128,256", help="comma-separated grid sizes n (n x n nodes)")
-    parser.add_argument("--steps", default="5", help="timed steps per size (after one warm-up step)")
-    parser.add_argument("--out", default=None, help="folder for bench.csv (default: reports/bench)")
-    parser.add_argument("--variational-sizes", default="16,32", metavar="N,...",
-                        help="grid sizes of the variational rows (implicit Euler, Newton); '' for none")
+    parser.add_argument("--backend", default="fd", help="fd, fe or all (default: fd)")
+    parser.add_argument("--sizes", default="32,64,128,256", help="semi-implicit rows: grid sizes n, n x n nodes "
+                        "(default: 32,64,128,256)")
+    parser.add_argument("--steps", default="5", help="timed steps per row, after one warm-up step (default: 5)")
+    parser.add_argument("--implicit-fd", default="32,64,128", metavar="N,...",
+                        help="implicit rows, FD: nodes a side (default: 32,64,128); '' for none")
+    parser.add_argument("--implicit-fe", default="16,32,64", metavar="N,...",
+                        help="implicit rows, FE: elements a side (default: 16,32,64); '' for none")
+    parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
+    parser.add_argument("--out", default=None, help="folder for bench.csv and bench_implicit.csv "
+                        "(default: reports/bench)")
 
 
+def _peak_memory() -> float:
+    """This process's maximum resident set (MB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _in_own_process(fn, *args):
+    """fn(*args) in a forked process of its own (its peak memory is its own); returns its result."""
+    ctx = mp.get_context("fork")
+    with ctx.Pool(1) as pool:
+        return pool.apply(fn, args)
+
+
+# -- semi-implicit rows ------------------------------------------------------------------
 @dataclass(frozen=True)
 class BenchRow:
-    """One line of the table; times in seconds per step."""
+    """One semi-implicit line of the table; times in seconds per step, memory in MB."""
 
     backend: str
     nodes: str
     ndof: int
     free: int
+    solver: str
     assembly: float
     factorisation: float
     solve: float
@@ -70,6 +99,7 @@ class BenchRow:
     direct_solve: float
     same_factor: float
     same_solve: float
+    peak_mb: float
 
     @property
     def ratio(self) -> float:
@@ -78,7 +108,7 @@ class BenchRow:
 
     @property
     def same_ratio(self) -> float:
-        """step / (factor + solve) with the stepper's own splu options."""
+        """step / (factor + solve) with the stepper's own solver."""
         return self.step / (self.same_factor + self.same_solve)
 
 
@@ -90,32 +120,31 @@ def _model(backend: str, n: int):
     return model, min(cfg.dt, 0.5 * model.stable_step())
 
 
-def direct_solve_time(model, X, dt: float, repeats: int = 3, **options) -> tuple[float, float, int]:
-    """Best of ``repeats`` of one splu (default ``options``) of A_t on the free dofs, and one 3-rhs solve.
-
-    Returns (factor seconds, solve seconds, number of free dofs). The free dofs
-    are those of the x component (the hanging scene holds all three alike).
-    """
-    A = (model.stiffness(X) + model.mass() / dt**2 + model.damping() / (2 * dt)).tocsr()
-    fixed = np.unique(np.asarray(model.fixed_dofs()[0], dtype=np.int64))
-    free = np.setdiff1d(np.arange(A.shape[0]), fixed)
-    Aff = sp.csc_matrix(A[free][:, free])
-    rhs = np.asarray(model.load(X, 0.0))[free] + (model.mass() / dt**2 @ X)[free]
-    best_f = best_s = np.inf
+def _best(fn, repeats: int = 3) -> float:
+    best = np.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
-        lu = spla.splu(Aff, **options)
-        t1 = time.perf_counter()
-        lu.solve(rhs)
-        t2 = time.perf_counter()
-        best_f, best_s = min(best_f, t1 - t0), min(best_s, t2 - t1)
-    return best_f, best_s, free.size
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
 
 
-def bench_one(backend: str, n: int, steps: int) -> BenchRow:
-    """Time ``steps`` steps of the hanging scene on an n x n grid, and the reference solve."""
+def direct_solve_time(A, rhs, solver=None, repeats: int = 3) -> tuple[float, float]:
+    """Best of ``repeats`` of one factorisation of A and one solve of rhs: (factor s, solve s).
+
+    ``solver``: one of :mod:`deformable.linalg` (default: ``splu`` with SciPy's default options).
+    """
+    if solver is None:
+        lu = spla.splu(sp.csc_matrix(A))
+        return _best(lambda: spla.splu(sp.csc_matrix(A)), repeats), _best(lambda: lu.solve(rhs), repeats)
+    solver.factor(A)
+    return _best(lambda: solver.factor(A), repeats), _best(lambda: solver.solve(rhs), repeats)
+
+
+def bench_one(backend: str, n: int, steps: int, solver: str = "auto") -> BenchRow:
+    """Time ``steps`` semi-implicit steps of the hanging scene on an n x n grid, and the references."""
     model, dt = _model(backend, n)
-    stepper = TimeStepper(model, dt)
+    stepper = TimeStepper(model, dt, solver=solver)
     # a generic deformed start, so that every alpha_ij, beta_ij is non-zero and the
     # reference matrix has the same non-zero pattern as the stepper's
     X0 = model.initial_state()
@@ -131,25 +160,107 @@ def bench_one(backend: str, n: int, steps: int) -> BenchRow:
         state = stepper.step(state)
     wall = (time.perf_counter() - t0) / steps
     tm = {k: v / steps for k, v in stepper.timings.items()}
-    f, s, nfree = direct_solve_time(model, state.X, dt)
-    f2, s2, _ = direct_solve_time(model, state.X, dt, **SPLU_OPTIONS)
-    return BenchRow(backend, f"{n}x{n}", model.ndof, nfree, tm["assembly"], tm["factorisation"], tm["solve"],
-                    wall, f, s, f2, s2)
+    X = state.X
+    A = (model.stiffness(X) + model.mass() / dt**2 + model.damping() / (2 * dt)).tocsr()
+    free = np.setdiff1d(np.arange(A.shape[0]), np.asarray(model.fixed_dofs()[0], dtype=np.int64))
+    Aff = sp.csc_matrix(A[free][:, free])
+    rhs = (model.load(X, 0.0) + model.mass() / dt**2 @ X)[free]
+    f, s = direct_solve_time(Aff, rhs)
+    own = make_solver(solver)
+    f2, s2 = direct_solve_time(Aff, rhs, own)
+    return BenchRow(backend, f"{n}x{n}", model.ndof, free.size, own.name, tm["assembly"], tm["factorisation"],
+                    tm["solve"], wall, f, s, f2, s2, _peak_memory())
 
 
 def format_table(rows) -> str:
-    """A markdown table of bench rows (times in ms)."""
-    head = ("| backend | grid | ndof | free | assembly ms | factorisation ms | solve ms | step ms "
-            "| splu factor ms | splu solve ms | step / (factor+solve) | step / same, stepper's options |")
-    lines = [head, "|" + "---|" * 12]
+    """A markdown table of semi-implicit rows (times in ms)."""
+    head = ("| backend | grid | ndof | free | solver | assembly ms | factorisation ms | solve ms | step ms "
+            "| splu factor ms | splu solve ms | step / (factor+solve) | step / same with its solver | peak MB |")
+    lines = [head, "|" + "---|" * 14]
     for r in rows:
-        lines.append(f"| {r.backend} | {r.nodes} | {r.ndof} | {r.free} | {1e3 * r.assembly:.2f} | "
+        lines.append(f"| {r.backend} | {r.nodes} | {r.ndof} | {r.free} | {r.solver} | {1e3 * r.assembly:.2f} | "
                      f"{1e3 * r.factorisation:.2f} | {1e3 * r.solve:.2f} | {1e3 * r.step:.2f} | "
                      f"{1e3 * r.direct_factor:.2f} | {1e3 * r.direct_solve:.2f} | {r.ratio:.2f} "
-                     f"| {r.same_ratio:.2f} |")
+                     f"| {r.same_ratio:.2f} | {r.peak_mb:.0f} |")
     return "\n".join(lines)
 
 
+# -- implicit rows -----------------------------------------------------------------------
+@dataclass(frozen=True)
+class ImplicitRow:
+    """One implicit line: the variational curtain under implicit Euler; times in seconds, memory in MB."""
+
+    backend: str
+    grid: str
+    unknowns: int
+    solver: str
+    dt: float
+    newton_per_step: float
+    factorisations_per_step: float
+    step: float
+    factor: float
+    solve: float
+    semi_implicit_step: float
+    peak_mb: float
+
+    @property
+    def per_iteration(self) -> float:
+        return self.step / self.newton_per_step
+
+    @property
+    def iteration_ratio(self) -> float:
+        """One Newton iteration against one factorisation and solve of its own matrix (same solver)."""
+        return self.per_iteration / (self.factor + self.solve)
+
+    @property
+    def step_ratio(self) -> float:
+        """The implicit step against the semi-implicit step of the same scene and grid."""
+        return self.step / self.semi_implicit_step
+
+
+def bench_implicit(backend: str, n: int, steps: int, solver: str = "auto") -> ImplicitRow:
+    """Time ``steps`` implicit-Euler steps of the variational curtain on n nodes (FD) or n elements (FE) a side."""
+    nodes = n if backend == "fd" else n + 1
+    cfg = scenes.config("curtain", nodes=(nodes, nodes), xi=1e-3, force_model="variational")
+    model = make_model(scenes.build(cfg), backend)
+    stepper = TimeStepper(model, IMPLICIT_DT, newton=dict(solver=solver))
+    state = stepper.step(stepper.start(model.initial_state()))  # warm-up: patterns and analyses are built once
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        state = stepper.step(state)
+    wall = (time.perf_counter() - t0) / steps
+    reports = stepper.newton_reports[1:]
+    dt = IMPLICIT_DT
+    A = stepper.newton.newton_matrix(flat(state.X), 1 / dt**2, 1 / dt)
+    own = make_solver(solver, definite=True)
+    f, s = direct_solve_time(A, np.ones(A.shape[0]), own)
+    # the paper's force on the same scene and grid, at its own stable step
+    paper = make_model(scenes.build(cfg.replace(force_model="tpbf87")), backend)
+    semi = TimeStepper(paper, min(scenes.config("curtain").dt, 0.5 * paper.stable_step()), solver=solver)
+    sstate = semi.step(semi.start(paper.initial_state()))
+    t1 = time.perf_counter()
+    for _ in range(steps):
+        sstate = semi.step(sstate)
+    semi_step = (time.perf_counter() - t1) / steps
+    return ImplicitRow(backend, f"{n}x{n}", A.shape[0], own.name, dt,
+                       float(np.mean([r.iterations for r in reports])),
+                       float(np.mean([r.factorisations for r in reports])), wall, f, s, semi_step, _peak_memory())
+
+
+def format_implicit(rows) -> str:
+    """A markdown table of implicit rows (times in ms)."""
+    lines = ["| backend | grid | unknowns | solver | Newton iterations / step | factorisations / step | step ms "
+             "| ms / iteration | factor+solve ms | iteration / (factor+solve) | step / semi-implicit step "
+             "| peak MB |", "|" + "---|" * 12]
+    for r in rows:
+        lines.append(f"| {r.backend} | {r.grid}{' nodes' if r.backend == 'fd' else ' el.'} | {r.unknowns} | "
+                     f"{r.solver} | {r.newton_per_step:.2f} | {r.factorisations_per_step:.2f} | {1e3 * r.step:.1f} | "
+                     f"{1e3 * r.per_iteration:.1f} | {1e3 * (r.factor + r.solve):.1f} | {r.iteration_ratio:.2f} | "
+                     f"{r.step_ratio:.1f} | {r.peak_mb:.0f} |")
+    return "\n".join(lines)
+
+
+# -- the command -------------------------------------------------------------------------
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
     """Comma-separated grid sizes, each at least 3; ValueError naming ``flag`` otherwise."""
     try:
@@ -166,81 +277,41 @@ def _parse(args):
     if backends is None:
         raise ValueError(f"unknown backend {args.backend!r}; choose fd, fe or all")
     sizes = _sizes(args.sizes, "--sizes")
+    implicit = {"fd": _sizes(args.implicit_fd, "--implicit-fd", allow_empty=True),
+                "fe": _sizes(args.implicit_fe, "--implicit-fe", allow_empty=True)}
     try:
         steps = int(args.steps)
     except ValueError:
         raise ValueError(f"--steps must be a positive integer, got {args.steps!r}") from None
     if steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps!r}")
-    return backends, sizes, steps
+    make_solver(args.solver)  # a bad or missing solver is refused before any work
+    return backends, sizes, implicit, steps
+
+
+def _write(path: Path, rows, extra=()) -> None:
+    with path.open("w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(list(asdict(rows[0]).keys()) + [name for name, _ in extra])
+        for r in rows:
+            writer.writerow(list(asdict(r).values()) + [f"{fn(r):.4f}" for _, fn in extra])
 
 
 def execute(args) -> int:
-    """``deformable bench``: print the table and write bench.csv."""
+    """``deformable bench``: print the tables and write bench.csv and bench_implicit.csv."""
     from validation.harness.report import writable_folder
 
-    backends, sizes, steps = _parse(args)
-    vsizes = _sizes(args.variational_sizes, "--variational-sizes", allow_empty=True)
+    backends, sizes, implicit, steps = _parse(args)
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
-    rows = []
-    for backend in backends:
-        for n in sizes:
-            rows.append(bench_one(backend, n, steps))
-            log.info("%s", rows[-1])
+    rows = [_in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
     print(format_table(rows))
-    with (out / "bench.csv").open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(list(asdict(rows[0]).keys()) + ["ratio", "same_ratio"])
-        for r in rows:
-            writer.writerow(list(asdict(r).values()) + [f"{r.ratio:.4f}", f"{r.same_ratio:.4f}"])
+    _write(out / "bench.csv", rows, [("ratio", lambda r: r.ratio), ("same_ratio", lambda r: r.same_ratio)])
     print(f"wrote {out / 'bench.csv'}")
-    if vsizes:
-        vrows = [bench_variational(b, n, steps) for b in backends for n in vsizes]
-        print(format_variational(vrows))
-        with (out / "bench_variational.csv").open("w", newline="") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(list(asdict(vrows[0]).keys()))
-            writer.writerows(list(asdict(r).values()) for r in vrows)
-        print(f"wrote {out / 'bench_variational.csv'}")
+    irows = [_in_own_process(bench_implicit, b, n, steps, args.solver) for b in backends for n in implicit[b]]
+    if irows:
+        print(format_implicit(irows))
+        _write(out / "bench_implicit.csv", irows, [("ms_per_iteration", lambda r: 1e3 * r.per_iteration),
+                                                    ("iteration_ratio", lambda r: r.iteration_ratio),
+                                                    ("step_ratio", lambda r: r.step_ratio)])
+        print(f"wrote {out / 'bench_implicit.csv'}")
     return 0
-
-
-@dataclass(frozen=True)
-class VariationalRow:
-    """One variational row: implicit-Euler steps solved by Newton; times in seconds."""
-
-    backend: str
-    nodes: str
-    unknowns: int
-    dt: float
-    newton_per_step: float
-    step: float
-
-    @property
-    def per_iteration(self) -> float:
-        return self.step / self.newton_per_step
-
-
-def bench_variational(backend: str, n: int, steps: int) -> VariationalRow:
-    """Time ``steps`` implicit-Euler steps of the hanging scene under the variational model (xi = 1e-3)."""
-    cfg = scenes.config("hanging", nodes=(n, n), xi=1e-3, force_model="variational")
-    model = make_model(scenes.build(cfg), backend)
-    dt = 5e-3
-    stepper = TimeStepper(model, dt)
-    state = stepper.step(stepper.start(model.initial_state()))  # warm-up
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        state = stepper.step(state)
-    wall = (time.perf_counter() - t0) / steps
-    newton = float(np.mean([r.iterations for r in stepper.newton_reports[1:]]))
-    return VariationalRow(backend, f"{n}x{n}", 3 * model.ndof, dt, newton, wall)
-
-
-def format_variational(rows) -> str:
-    """A markdown table of variational rows (times in ms)."""
-    lines = ["| backend | grid | unknowns | dt s | Newton iterations / step | step ms | ms / iteration |",
-             "|" + "---|" * 7]
-    for r in rows:
-        lines.append(f"| {r.backend} | {r.nodes} | {r.unknowns} | {r.dt:g} | {r.newton_per_step:.2f} | "
-                     f"{1e3 * r.step:.1f} | {1e3 * r.per_iteration:.1f} |")
-    return "\n".join(lines)

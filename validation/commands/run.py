@@ -38,6 +38,7 @@ from pathlib import Path
 
 from deformable import scenes
 from deformable.dynamics import EnergyMonitor, State, TimeStepper
+from deformable.dynamics.stepper import round_down
 from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
 from deformable.output.render import FIELDS, render_series
 from deformable.scene import FORCE_MODELS
@@ -160,7 +161,7 @@ def prepare(args) -> Run:
     # The bound comes from lagging alpha (eq. 25): the frozen and variational models have none (inf).
     bound = model.stable_step()
     if dt is None and checkpoint is None and cfg.dt > 0.5 * bound:
-        cfg = cfg.replace(dt=float(f"{0.5 * bound:.1g}"))
+        cfg = cfg.replace(dt=round_down(0.5 * bound))
         log.info("dt = %g s for the %s backend (half its stretching bound %.3g s)", cfg.dt, backend, bound)
     if cfg.dt > bound:
         log.warning("dt = %g s exceeds the %s backend's stretching stability bound %.3g s "

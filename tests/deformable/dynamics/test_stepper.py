@@ -98,3 +98,77 @@ def test_run_arguments_are_checked():
         stepper.run(X0[:3], steps=1)
     with pytest.raises(ValueError, match=r"V0 has shape"):
         stepper.run(X0, V0=np.zeros(3), steps=1)
+
+
+# -- the step size: "auto", retries, the floor --------------------------------------------
+def test_auto_dt_of_the_semi_implicit_scheme_is_half_the_backends_stable_step():
+    for backend in ("fd", "fe"):
+        model = flat_model(backend, nodes=(9, 9), material=dm.Material(mu=0.1, eta=50.0))
+        stepper = dm.TimeStepper(model, dt="auto")
+        assert stepper.scheme == "semi-implicit"
+        assert 0.45 * model.stable_step() <= stepper.dt <= 0.5 * model.stable_step()
+    frozen = flat_model("fd", nodes=(5, 5), force_model="frozen", material=dm.Material(alpha=1.0))
+    with pytest.raises(ValueError, match="no stretching bound; give dt"):
+        dm.TimeStepper(frozen, dt="auto")
+
+
+def curling(backend="fd", nodes=(9, 3), **newton):
+    """A soft clamped strip with rest curvature, released from flat: far from its rest state (an arc)."""
+    model = flat_model(backend, nodes=nodes, size=(1.0, 0.2), force_model="variational",
+                       material=dm.Material(mu=1.0, gamma=0.5, eta=np.full((2, 2), 10.0), xi=np.full((2, 2), 1.0)),
+                       constraints=[dm.Clamp("left")], rest_curvature=np.diag([3.0, 0.0]))
+    return model
+
+
+def test_a_step_too_large_for_newton_is_retried_with_smaller_steps_that_grow_back():
+    """At dt = 1 s and two Newton iterations a step, the curling strip's first steps fail: they are retried
+    with half the step; every returned step met its tolerance; dt grows back once steps converge."""
+    model = curling()
+    stepper = dm.TimeStepper(model, dt=1.0, newton=dict(max_iter=2))
+    result = stepper.run(model.initial_state(), t_end=4.0)
+    assert result.status == "finished" and result.state.t == pytest.approx(4.0, abs=1e-12)
+    assert stepper.rejected > 0 and all(r.converged for r in stepper.newton_reports)
+    assert len(stepper.newton_reports) == result.steps
+    assert stepper.dt_now > stepper.dt_min  # grew back after the rejections
+    # the tolerance every report met: max(rtol * r0, atol), never the floor's lax side
+    for r in stepper.newton_reports:
+        assert r.residuals[-1] <= max(1e-4 * r.residuals[0], 1e-12, r.floor)
+
+
+def test_a_run_whose_steps_never_converge_stalls_with_its_last_good_state():
+    """max_iter = 0: no step can be taken; dt halves down to dt_min and the run stops, status "stalled"."""
+    model = curling()
+    X0 = model.initial_state()
+    stepper = dm.TimeStepper(model, dt=0.1, newton=dict(max_iter=0))
+    result = stepper.run(X0, t_end=1.0)
+    assert result.status == "stalled" and result.steps == 0 and result.state.t == 0.0
+    np.testing.assert_array_equal(result.state.X, X0)
+    assert "dt_min = 9.77e-05 s" in result.message and stepper.rejected == 11  # 0.1 / 2^10, after 11 halvings
+    with pytest.raises(dm.StalledError):
+        list(stepper.iterate(X0, 1))
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_results_do_not_depend_on_the_solver_or_the_ordering_beyond_the_tolerance(backend):
+    """The same implicit run with every solver at hand, and SuperLU with the COLAMD ordering instead of the
+    symmetric one: the final states agree to the Newton tolerance (rtol 1e-10 here)."""
+    from deformable import linalg
+
+    model = curling(backend, nodes=(7, 3))
+    X0 = model.initial_state()
+    finals = {}
+    for solver in linalg.available():
+        stepper = dm.TimeStepper(model, dt=0.05, newton=dict(solver=solver, rtol=1e-10))
+        finals[solver] = stepper.run(X0, t_end=0.5).state.X
+    original = linalg.SPLU_OPTIONS
+    try:
+        linalg.SPLU_OPTIONS = dict(original, permc_spec="COLAMD")
+        stepper = dm.TimeStepper(model, dt=0.05, newton=dict(solver="superlu", rtol=1e-10))
+        finals["colamd"] = stepper.run(X0, t_end=0.5).state.X
+    finally:
+        linalg.SPLU_OPTIONS = original
+    reference = finals["superlu"]
+    motion = np.max(np.abs(reference - X0))
+    assert motion > 0.05
+    for name, X in finals.items():
+        assert np.max(np.abs(X - reference)) <= 1e-8 * motion, name

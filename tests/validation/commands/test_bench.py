@@ -11,9 +11,9 @@ from validation.commands import main
 from validation.commands.bench import _model
 
 
-def test_bench_writes_the_table_and_csv_for_both_backends(tmp_path, capsys):
-    assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--variational-sizes", "6",
-                 "--out", str(tmp_path)]) == 0
+def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
+    assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--implicit-fd", "8",
+                 "--implicit-fe", "4", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "step / (factor+solve)" in out and "| fd | 12x12 |" in out and "| fe | 12x12 |" in out
     with (tmp_path / "bench.csv").open() as fh:
@@ -25,11 +25,17 @@ def test_bench_writes_the_table_and_csv_for_both_backends(tmp_path, capsys):
         assert 0 < parts <= float(r["step"]) * 1.01
         ref = float(r["direct_factor"]) + float(r["direct_solve"])
         assert float(r["ratio"]) == pytest.approx(float(r["step"]) / ref, rel=1e-3)
-    with (tmp_path / "bench_variational.csv").open() as fh:
-        variational = list(csv.DictReader(fh))
-    assert [r["backend"] for r in variational] == ["fd", "fe"]
-    assert all(r["nodes"] == "6x6" and float(r["newton_per_step"]) >= 1 for r in variational)
-    assert "Newton iterations / step" in out
+        assert float(r["peak_mb"]) > 10  # the row's own process, interpreter included
+    with (tmp_path / "bench_implicit.csv").open() as fh:
+        implicit = list(csv.DictReader(fh))
+    assert [(r["backend"], r["grid"]) for r in implicit] == [("fd", "8x8"), ("fe", "4x4")]
+    for r in implicit:
+        assert float(r["newton_per_step"]) >= 1 and float(r["factorisations_per_step"]) >= 1
+        iteration = float(r["step"]) / float(r["newton_per_step"])
+        assert float(r["iteration_ratio"]) == pytest.approx(iteration / (float(r["factor"]) + float(r["solve"])),
+                                                           rel=1e-3)
+        assert float(r["step_ratio"]) == pytest.approx(float(r["step"]) / float(r["semi_implicit_step"]), rel=1e-3)
+    assert "Newton iterations / step" in out and "iteration / (factor+solve)" in out
 
 
 @pytest.mark.parametrize("backend", ["fd", "fe"])
@@ -49,7 +55,9 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--sizes", "2"], "grid sizes of at least 3"),
     (["--backend", "fv"], "unknown backend 'fv'"),
     (["--steps", "0"], "--steps must be a positive integer"),
-    (["--variational-sizes", "4,y"], "--variational-sizes must be comma-separated integers"),
+    (["--implicit-fd", "4,y"], "--implicit-fd must be comma-separated integers"),
+    (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
+    (["--solver", "mumps"], "solver must be one of"),
 ])
 def test_bench_bad_input(argv, message, tmp_path, capsys):
     assert main(["bench", *argv, "--out", str(tmp_path / "o")]) == 2

@@ -1,0 +1,223 @@
+r"""The integrand of the energy (13) at points, with its exact derivatives, written once for both backends.
+
+At a point the integrand depends on the surface through a few vectors, its
+*slots*: the tangents d1, d2 of the metric (G_ij = d_i . d_j, eq. 4 / 18),
+the tangents t1, t2 that define the normal (n = t1 x t2 / |t1 x t2|), and the
+second derivatives v11, v12, v22 of the curvature (B_ij = n . v_ij, eq. 8 / 19).
+In FE all are derivatives of one field and t_i = d_i = r_i (5 slots: r_1, r_2,
+r_11, r_12, r_22); in FD d_i = D_i+ r (zero where the row is undefined), t_i
+the forward (backward on the last row) differences of the normal, v_ij the
+second differences: 7 slots. The backends map slots to degrees of freedom
+(FD: difference stencils; FE: basis tables); everything else is here.
+
+With weights (the quadrature weight w times the material) the integrand is
+
+    W = sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2,
+
+written with the six residuals s = (G11, G22, G12) and b = (B11, B22, B12),
+weights c^S = w (eta_11, eta_22, eta_12 + eta_21) and c^B likewise (G and B
+are symmetric, so 12 and 21 share one residual). Its first derivatives in
+the residuals are ``f = dW/ds = 2 c^S s - f0`` and ``g = dW/db = 2 c^B b - g0``
+(``f0 = 2 w (eta_11 G0_11, eta_22 G0_22, eta_12 G0_12 + eta_21 G0_21)``, ``g0``
+likewise). The Jacobian of the residuals in the slots:
+
+    s11: (2 d1 | d1),  s22: (2 d2 | d2),  s12: (d2 | d1), (d1 | d2),
+    b_ij: (t2 x w_ij | t1), (w_ij x t1 | t2), (n | v_ij),   w_ij = (v_ij - (v_ij . n) n) / |t1 x t2|,
+
+so the gradient is ``sum f J_s + g J_b`` and the Hessian
+
+    Gauss-Newton:  2 J^T diag(c) J                              (positive semi-definite)
+    exact:         2 J^T diag(c) J + sum f Hess(s) + sum g Hess(b)
+
+with ``sum f Hess(s)`` = [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2), and
+``sum g Hess(b)`` the second derivative of ``V . n``, ``V = sum g_ij v_ij``,
+in (t1, t2) (:func:`deformable.tensors.normal_hessian`) plus its mixed
+derivative g_ij Q between v_ij and (t1, t2).
+
+A *definite* Newton matrix (``kind="definite"``) keeps what can be made
+positive semi-definite point by point without an eigen-decomposition: the
+Gauss-Newton part, and the membrane part [[2 f11, f12], [f12, 2 f22]]
+projected onto its positive part (a 2 x 2 eigenproblem in closed form: the
+geometric stiffness of a sheet in tension, dropped in compression, where it
+would be negative). The bending second-order part, which is indefinite and
+vanishes with the bending residual, is left out. ``kind="projected"`` projects
+each point's whole exact Hessian onto its positive part by an eigen-
+decomposition (Teran et al. 2005; the projected Newton of Li et al. 2020):
+dearer, kept for comparison.
+
+Layout: points first; slot vectors ``v`` are (P, S, 3); gradients (P, S, 3);
+Hessians (P, S, 3, S, 3) with index (slot, coordinate).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import tensors
+from .backend import Energy
+from .elasticity import energy_density
+
+__all__ = ["Integrand", "slot_tensors", "HESSIANS", "FE_SLOTS", "FD_SLOTS"]
+
+HESSIANS = ("newton", "gauss-newton", "definite", "projected")
+#: slot names in the order of the slot axis: (d1, d2, t1, t2, v11, v12, v22) -> position
+FD_SLOTS = {"d1": 0, "d2": 1, "t1": 2, "t2": 3, "v11": 4, "v12": 5, "v22": 6}
+#: the FE slots: the normal's tangents are the metric's (r_1, r_2, r_11, r_12, r_22)
+FE_SLOTS = {"d1": 0, "d2": 1, "t1": 0, "t2": 1, "v11": 2, "v12": 3, "v22": 4}
+#: residual order: s11, s22, s12, b11, b22, b12; the second derivative slot of each b
+_BEND = ("v11", "v22", "v12")
+
+
+def _residuals(v: np.ndarray, slots: dict, curvature: bool):
+    """(G11, G22, G12) and (B11, B22, B12), each (3, P), and the frame (n, |t1 x t2|); None without curvature."""
+    d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
+    G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
+    if not curvature:
+        return G, None, None
+    n, area = tensors.frame(v[:, slots["t1"]], v[:, slots["t2"]])
+    return G, np.stack([tensors.dot(n, v[:, slots[k]]) for k in _BEND]), (n, area)
+
+
+def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """G (eq. 4) and B (eq. 8) from slot vectors (P, S, 3): (2, 2, P) each.
+
+    B is None with ``curvature=False`` (no normal is formed). The backends take
+    their rest tensors from here, with the arithmetic of the energy itself, so
+    that the rest state has residuals exactly zero.
+    """
+    G, B, _ = _residuals(v, slots, curvature)
+    sym = lambda T: np.array([[T[0], T[2]], [T[2], T[1]]])  # noqa: E731
+    return sym(G), None if B is None else sym(B)
+
+
+class Integrand:
+    """Eq. (13)'s integrand at P points with its gradient and Hessians in the slot vectors.
+
+    Parameters
+    ----------
+    eta, xi : arrays (2, 2, *pts)
+        Weights of eq. (13), already multiplied by the quadrature weight of
+        each point (and, in FD, by each component's row weight).
+    G0, B0 : arrays (2, 2, *pts)
+        Rest tensors.
+    slots : dict
+        Slot name -> position (:data:`FE_SLOTS` or :data:`FD_SLOTS`).
+
+    The points are flattened: every method takes slot vectors (P, S, 3) for
+    the P = prod(pts) points (or a slice ``sl`` of them).
+    """
+
+    def __init__(self, eta, xi, G0, B0, slots: dict):
+        self.slots = dict(slots)
+        self.S = max(self.slots.values()) + 1
+        self.eta, self.xi, self.G0, self.B0 = (np.asarray(a, float).reshape(2, 2, -1) for a in (eta, xi, G0, B0))
+        e, x = self.eta, self.xi
+        self.cS = np.stack([e[0, 0], e[1, 1], e[0, 1] + e[1, 0]])  # (3, P)
+        self.cB = np.stack([x[0, 0], x[1, 1], x[0, 1] + x[1, 0]])
+        G0, B0 = self.G0, self.B0
+        self.f0 = 2 * np.stack([e[0, 0] * G0[0, 0], e[1, 1] * G0[1, 1], e[0, 1] * G0[0, 1] + e[1, 0] * G0[1, 0]])
+        self.g0 = 2 * np.stack([x[0, 0] * B0[0, 0], x[1, 1] * B0[1, 1], x[0, 1] * B0[0, 1] + x[1, 0] * B0[1, 0]])
+        self.bending = bool(np.any(x != 0))  # False: no normal is formed (degenerate tangents allowed)
+        self.P = self.cS.shape[1]
+
+    # -- energy -----------------------------------------------------------------------
+    def residuals(self, v: np.ndarray):
+        """Metric (G11, G22, G12) and curvature (B11, B22, B12), each (3, P), and the frame (n, |c|) or None."""
+        return _residuals(v, self.slots, self.bending)
+
+    def energy(self, v: np.ndarray) -> Energy:
+        """Eq. (13) summed over the points: (stretching, bending) (J)."""
+        G, B = slot_tensors(v, self.slots, curvature=self.bending)
+        stretching, bending = energy_density(self.eta, self.xi, G, self.G0, B, self.B0)
+        return Energy(float(stretching.sum()), float(bending.sum()))
+
+    def _forces(self, v, sl):
+        G, B, frame = self.residuals(v)
+        f = 2 * self.cS[:, sl] * G - self.f0[:, sl]
+        g = None if B is None else 2 * self.cB[:, sl] * B - self.g0[:, sl]
+        return f, g, frame
+
+    # -- derivatives ------------------------------------------------------------------
+    def jacobian(self, v: np.ndarray, frame=None) -> np.ndarray:
+        """Jacobian of the six residuals in the slots, (P, 6, S, 3) (the bending rows zero without bending)."""
+        P, s = v.shape[0], self.slots
+        J = np.zeros((P, 6, self.S, 3))
+        d1, d2 = v[:, s["d1"]], v[:, s["d2"]]
+        J[:, 0, s["d1"]] += 2 * d1
+        J[:, 1, s["d2"]] += 2 * d2
+        J[:, 2, s["d1"]] += d2
+        J[:, 2, s["d2"]] += d1
+        if frame is not None:
+            n, area = frame
+            t1, t2 = v[:, s["t1"]], v[:, s["t2"]]
+            for res, name in enumerate(_BEND):
+                vk = v[:, s[name]]
+                w = (vk - tensors.dot(vk, n)[:, None] * n) / area[:, None]
+                J[:, 3 + res, s["t1"]] += tensors.cross(t2, w)
+                J[:, 3 + res, s["t2"]] += tensors.cross(w, t1)
+                J[:, 3 + res, s[name]] += n
+        return J
+
+    def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
+        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors)."""
+        f, g, frame = self._forces(v, sl)
+        J = self.jacobian(v, frame)
+        dres = np.concatenate([f, g if g is not None else np.zeros_like(f)]).T  # (P, 6)
+        return np.einsum("pr,prsa->psa", dres, J)
+
+    def hessian(self, v: np.ndarray, kind: str = "newton", sl=slice(None)) -> np.ndarray:
+        """The Hessian of W in the slots at the points ``sl``, (P, S, 3, S, 3); ``kind`` one of :data:`HESSIANS`."""
+        if kind not in HESSIANS:
+            raise ValueError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+        P, S, s = v.shape[0], self.S, self.slots
+        f, g, frame = self._forces(v, sl)
+        J = self.jacobian(v, frame).reshape(P, 6, 3 * S)
+        c2 = 2 * np.concatenate([self.cS[:, sl], self.cB[:, sl]]).T  # (P, 6)
+        H = (np.swapaxes(J, 1, 2) * c2[:, None, :]) @ J  # Gauss-Newton, (P, 3S, 3S)
+        H = H.reshape(P, S, 3, S, 3)
+        if kind == "gauss-newton":
+            return H
+        # membrane: [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2); its positive part for "definite"
+        m = np.stack([np.stack([2 * f[0], f[2]], -1), np.stack([f[2], 2 * f[1]], -1)], -2)  # (P, 2, 2)
+        if kind == "definite":
+            m = _positive_part_2x2(m)
+        I3 = np.eye(3)
+        for i, a in enumerate(("d1", "d2")):
+            for j, b in enumerate(("d1", "d2")):
+                H[:, s[a], :, s[b], :] += m[:, i, j, None, None] * I3
+        if kind == "definite" or frame is None:
+            return H
+        # bending: the second derivative of V . n, V = sum g_ij v_ij
+        n, area = frame
+        V = sum(g[res][:, None] * v[:, s[name]] for res, name in enumerate(_BEND))
+        Htt, Q = tensors.normal_hessian(v[:, s["t1"]], v[:, s["t2"]], V)
+        tt = (s["t1"], s["t2"])
+        for i in range(2):
+            for j in range(2):
+                H[:, tt[i], :, tt[j], :] += Htt[:, 3 * i:3 * i + 3, 3 * j:3 * j + 3]
+        for res, name in enumerate(_BEND):
+            block = g[res][:, None, None] * Q  # (P, 3, 6): d/dv_ij d/d(t1, t2)
+            for i in range(2):
+                H[:, s[name], :, tt[i], :] += block[:, :, 3 * i:3 * i + 3]
+                H[:, tt[i], :, s[name], :] += np.swapaxes(block[:, :, 3 * i:3 * i + 3], 1, 2)
+        if kind == "projected":
+            w, U = np.linalg.eigh(H.reshape(P, 3 * S, 3 * S))
+            H = ((U * np.maximum(w, 0.0)[:, None, :]) @ np.swapaxes(U, 1, 2)).reshape(P, S, 3, S, 3)
+        return H
+
+
+def _positive_part_2x2(m: np.ndarray) -> np.ndarray:
+    """The positive semi-definite part of symmetric 2 x 2 matrices (P, 2, 2), in closed form."""
+    a, b, d = m[:, 0, 0], m[:, 0, 1], m[:, 1, 1]
+    mean, half = 0.5 * (a + d), np.hypot(0.5 * (a - d), b)
+    lam1, lam2 = mean + half, mean - half  # lam1 >= lam2
+    out = np.zeros_like(m)
+    both = lam2 >= 0
+    out[both] = m[both]
+    one = (lam1 > 0) & ~both
+    # the eigenvector of lam1: (b, lam1 - a) or (lam1 - d, b), whichever is better conditioned
+    u = np.where((np.abs(lam1 - a) + np.abs(b) >= np.abs(lam1 - d) + np.abs(b))[:, None],
+                 np.stack([b, lam1 - a], -1), np.stack([lam1 - d, b], -1))[one]
+    u = u / np.linalg.norm(u, axis=-1, keepdims=True)
+    out[one] = lam1[one, None, None] * u[:, :, None] * u[:, None, :]
+    return out
