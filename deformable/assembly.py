@@ -163,10 +163,11 @@ def element_vectors(ldofs: np.ndarray, ndof: int) -> sp.csr_matrix:
 
 
 class ReducedSystem:
-    """A = K + c_m M + c_c C on a fixed pattern, split into free/held blocks.
+    """A = K + K_2 + ... + c_m M + c_c C on a fixed pattern, split into free/held blocks.
 
-    Built once from the patterns of K, M and C; afterwards each refill only
-    gathers data arrays (no sparse-sparse products, no slicing).
+    Built once from the patterns of the varying matrices K (K_2, ...) and of
+    the constant M and C; afterwards each refill only gathers data arrays (no
+    sparse-sparse products, no slicing).
 
     Parameters
     ----------
@@ -176,28 +177,33 @@ class ReducedSystem:
         Multipliers of M and C.
     fixed_sets : list of int arrays
         One block split per set of held degrees of freedom.
+    extra : sequence of sparse (n, n)
+        Further varying matrices with fixed patterns (the springs' Hessian, the
+        wind's damping), refilled with K by :meth:`data`.
     """
 
-    def __init__(self, K, M, C, cm: float, cc: float, fixed_sets):
+    def __init__(self, K, M, C, cm: float, cc: float, fixed_sets, extra=()):
         n = K.shape[0]
         self.n = n
-        K, M, C = canonical(K), canonical(M), canonical(C)
-        parts = [coordinates(A) for A in (K, M, C)]
+        varying = [canonical(A) for A in (K, *extra)]
+        M, C = canonical(M), canonical(C)
+        parts = [coordinates(A) for A in (*varying, M, C)]
         self.pattern = FixedPattern(np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
                                     (n, n))
         self.rows, self.cols = coordinates(self.pattern.matrix(np.zeros(self.pattern.nnz)))
-        slots = np.split(self.pattern.slot, np.cumsum([K.nnz, M.nnz]))
-        self.idxK = slots[0]
-        self.K_pattern = (K.indptr, K.indices)
-        self._MC = (K.nnz, M.data, C.data)
+        slots = np.split(self.pattern.slot, np.cumsum([A.nnz for A in (*varying, M)]))
+        self._varying = [(idx, A.indptr, A.indices) for idx, A in zip(slots, varying)]
+        self._MC = (slots[-2], M.data, slots[-1], C.data)
         self.rescale(cm, cc)
         self.blocks = [self._block(np.asarray(f, dtype=np.int64)) for f in fixed_sets]
 
     def rescale(self, cm: float, cc: float) -> None:
         """Change the multipliers of M and C (a new time step)."""
-        nK, M, C = self._MC
+        iM, M, iC, C = self._MC
         self.cm, self.cc = cm, cc
-        self.base = self.pattern.data(np.concatenate([np.zeros(nK), cm * M, cc * C]))
+        self.base = np.zeros(self.pattern.nnz)
+        self.base[iM] += cm * M  # a canonical matrix has distinct slots
+        self.base[iC] += cc * C
 
     def _block(self, fixed):
         n = self.n
@@ -226,12 +232,15 @@ class ReducedSystem:
             shape_fc=(nf, fixed.size),
         )
 
-    def data(self, K) -> np.ndarray:
-        """The data of A for this K (same pattern as the K the system was built with)."""
-        if not (np.array_equal(K.indptr, self.K_pattern[0]) and np.array_equal(K.indices, self.K_pattern[1])):
-            raise ValueError("the backend changed the sparsity pattern of K between steps")
+    def data(self, K, *extra) -> np.ndarray:
+        """The data of A for this K and these extra matrices (the patterns the system was built with)."""
+        if len(extra) != len(self._varying) - 1:
+            raise ValueError(f"ReducedSystem was built with {len(self._varying) - 1} extra matrices, got {len(extra)}")
         A = self.base.copy()
-        A[self.idxK] += K.data
+        for (idx, indptr, indices), B in zip(self._varying, (K, *extra)):
+            if not (np.array_equal(B.indptr, indptr) and np.array_equal(B.indices, indices)):
+                raise ValueError("a matrix of the system changed its sparsity pattern between steps")
+            A[idx] += B.data
         return A
 
     def free_matrix(self, A: np.ndarray, block) -> sp.csc_matrix:

@@ -1,7 +1,8 @@
 r"""Static equilibrium of a model with an energy: ``grad E(X) = F(t)`` at the free degrees of freedom.
 
 E is the model's energy (the exact discrete eq. (13) for the "variational"
-model, the quadratic energy of the frozen model); the equilibrium minimises
+model, the quadratic energy of the frozen model) plus the energy of the
+scene's springs at time t; the equilibrium minimises
 ``E(x) - F . x`` by Newton's method (:func:`deformable.newton.minimise`),
 optionally under load continuation.
 """
@@ -52,9 +53,13 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
     if int(load_steps) != load_steps or load_steps < 1:
         raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
     fl = FlatEnergy(model)
+    if not fl.loads.conservative:
+        raise ValueError("equilibrium: the scene's Wind is not conservative (it depends on velocities); "
+                         "find a steady state by running the dynamics instead")
+    fl.t = t
     solver = Newton(fl, dict(newton or {}, max_iter=max_iter, rtol=0.0))
     X0 = np.asarray(X0, float)
-    F_full = fl.load(X0, t)
+    F_full = fl.load(t)
     x = fl.hold(flat(X0), X0, t)
     history: list[float] = []
     for k in range(1, int(load_steps) + 1):

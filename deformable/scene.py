@@ -20,7 +20,7 @@ import numpy as np
 
 from .compatibility import warn_if_incompatible
 from .constraints import Clamp, Pin, Slide
-from .forces import BodyForce, EdgeLoad, Gravity, PointLoad
+from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wind
 from .material import Material
 from .sheet import Sheet
 
@@ -50,7 +50,7 @@ class Scene:
     ----------
     sheet : Sheet
     material : Material
-    forces : sequence of Gravity, BodyForce, EdgeLoad, PointLoad
+    forces : sequence of Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind
     constraints : sequence of Pin, Slide, Clamp
     force_model : "tpbf87" | "frozen" | "variational"
     rest_metric, rest_curvature : optional
@@ -88,8 +88,10 @@ class Scene:
         self.material.check(self.sheet.nodes)
         forces = tuple(self.forces)
         for f in forces:
-            if not isinstance(f, (Gravity, BodyForce, EdgeLoad, PointLoad)):
-                raise ValueError(f"Scene.forces: {f!r} is not a Gravity, BodyForce, EdgeLoad or PointLoad")
+            if not isinstance(f, (Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind)):
+                raise ValueError(f"Scene.forces: {f!r} is not a Gravity, BodyForce, EdgeLoad, PointLoad, Spring or Wind")
+            if isinstance(f, (PointLoad, Spring)):
+                self.sheet.locate(f.at, f"{type(f).__name__}.at")  # inside the rectangle, or a ValueError naming it
         constraints = tuple(self.constraints)
         for c in constraints:
             if not isinstance(c, (Pin, Slide, Clamp)):

@@ -42,6 +42,7 @@ from deformable.backend import Energy, Sample, kinetic_energy
 from deformable.constraints import hold
 from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
                                    require_strength_matrix)
+from deformable.loads import Loads
 from deformable.scene import Scene
 from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
 
@@ -84,6 +85,7 @@ class FDModel:
         area = self.h1 * self.h2
 
         self.ops = operators(M, N, self.h1, self.h2)
+        self._tangents = tangents(M, N, self.h1, self.h2)
         self.valid = valid_rows(M, N)
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
         w1, w2 = np.ones(M), np.ones(N)
@@ -115,11 +117,12 @@ class FDModel:
             rw = self.row_weight
             stretch_rows = np.array([[rw["D1"], rw["D12"]], [rw["D12"], rw["D2"]]])
             bend_rows = np.array([[rw["D11"], rw["D12"]], [rw["D12"], rw["D22"]]])
-            slots = SlotMap(self.ops, tangents(M, N, self.h1, self.h2), (M, N))
+            slots = SlotMap(self.ops, self._tangents, (M, N))
             G0, B0 = scene.rest_tensors(self.a1, self.a2, *slots.tensors(self.discretize(sheet.rest), (M, N)))
             self._energy = DiscreteEnergy(slots, area * stretch_rows * self.eta, area * bend_rows * self.xi, G0, B0)
         self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
                           clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=2)))
+        self.loads = Loads(self)
 
     # -- geometry -----------------------------------------------------------
     def grid(self, X: np.ndarray) -> np.ndarray:
@@ -197,29 +200,52 @@ class FDModel:
         """C = h1 h2 diag(gamma) (times the control-area weights when chosen), kg/s."""
         return self._C
 
-    def load(self, X: np.ndarray, t: float) -> np.ndarray:
-        """F of eq. (21) at time t, (M N, 3), integrated over each node's cell (N).
+    def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
+        """F of eq. (21) at time t, (M N, 3), integrated over each node's cell (N) (:mod:`deformable.loads`).
 
         Body forces f h1 h2 (times the control-area weight when chosen; the
         paper's pointwise value otherwise), edge tractions q times the node's
-        share of the edge (half at the edge's end nodes), point loads P spread
-        bilinearly over the corners of their cell.
+        share of the edge (half at the edge's end nodes), point loads and
+        springs spread bilinearly over the corners of their cell, wind at the
+        nodes with the normal of eq. (19) and the velocities V (None: at rest).
         """
-        sheet, h = self.scene.sheet, self.spacing
+        return self.loads.total(X, t, V)
+
+    # -- the hooks of deformable.loads ---------------------------------------
+    def integrate(self, density: np.ndarray) -> np.ndarray:
+        """A density (N/m^2) at the nodes, (M, N, 3), times each node's area: (M N, 3) (N)."""
+        w = self.h1 * self.h2 * self.area_weight
+        return (w[..., None] * np.asarray(density).reshape(self.M, self.N, 3)).reshape(self.ndof, 3)
+
+    def at_points(self, X: np.ndarray, d: tuple[int, int] = (0, 0)) -> np.ndarray:
+        """X (d = (0, 0)) or its tangent difference r_1 (1, 0), r_2 (0, 1) of the normal at every node, (M N, 3)."""
+        if d == (0, 0):
+            return np.asarray(X, float)
+        return self._tangents[d.index(1)] @ X
+
+    def density_matrix(self, c: np.ndarray) -> sp.csr_matrix:
+        """diag(h1 h2 c) (times the control-area weights), (M N, M N), for a field c (M, N) at the nodes."""
+        data = (self.h1 * self.h2 * self.area_weight * np.asarray(c).reshape(self.M, self.N)).ravel()
+        return sp.csr_matrix((data, np.arange(self.ndof), np.arange(self.ndof + 1)), shape=(self.ndof, self.ndof))
+
+    def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]:
+        """The four nodes of the cell holding parameter point a and their bilinear weights: r(a) = w . X[dofs].
+
+        ``what`` is named in the ValueError for a point outside the sheet.
+        """
+        i, j, s, u = self.scene.sheet.locate(np.asarray(a, float)[None], what)
+        dofs = np.array([(i[0] + di) * self.N + j[0] + dj for di, dj in CELL_CORNERS])
+        return dofs, np.array([float(w) for w in bilinear_weights(s[0], u[0])])
+
+    def edge_load(self, force, t: float) -> np.ndarray:
+        """An EdgeLoad's traction q times each edge node's share of the edge (half at its ends), (M N, 3) (N)."""
+        sheet = self.scene.sheet
+        edge = sheet.edge(force.edge)
+        idx = edge.index
+        share = np.full(sheet.nodes[edge.along], self.spacing[edge.along])
+        share[[0, -1]] *= 0.5
         F = np.zeros((self.M, self.N, 3))
-        for force in self.scene.forces:
-            if force.kind == "body":
-                F += (h[0] * h[1] * self.area_weight)[..., None] * force.density(self.a1, self.a2, t, self.mu)
-            elif force.kind == "edge":
-                edge = sheet.edge(force.edge)
-                idx = edge.index
-                share = np.full(sheet.nodes[edge.along], h[edge.along])
-                share[[0, -1]] *= 0.5
-                F[idx] += force.traction(self.a1[idx], self.a2[idx], t) * share[:, None]
-            else:
-                i, j, s, u = sheet.locate(force.at, "PointLoad.at")
-                for w, (di, dj) in zip(bilinear_weights(s[0], u[0]), CELL_CORNERS):
-                    F[i[0] + di, j[0] + dj] += w * force.force(t)
+        F[idx] = force.traction(self.a1[idx], self.a2[idx], t) * share[:, None]
         return F.reshape(self.ndof, 3)
 
     def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -87,6 +87,7 @@ from deformable.constraints import hold
 from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
                                    require_strength_matrix)
 from deformable.integrand import FE_SLOTS, slot_tensors
+from deformable.loads import Loads
 from deformable.scene import Scene
 from deformable.sheet import as_surface, bilinear
 
@@ -174,6 +175,7 @@ class FEModel:
                                           self.G0, self.B0)
         self._held = hold(scene, self.ndof, node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs,
                           clamp_dofs=self._clamp_dofs)
+        self.loads = Loads(self)
         log.debug("FEModel %d x %d elements, %d dofs, nnz %d, built in %.3f s",
                   M - 1, N - 1, self.ndof, self.strength.elements.nnz, time.perf_counter() - start)
 
@@ -352,36 +354,54 @@ class FEModel:
         """Consistent damping matrix, integral gamma u v (kg/s), on K's pattern."""
         return self._C
 
-    def load(self, X: np.ndarray, t: float) -> np.ndarray:
-        """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis.
+    def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
+        """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis (:mod:`deformable.loads`).
 
-        Body densities (Gravity, BodyForce) by the 4 x 4 Gauss rule, edge
-        tractions (EdgeLoad) by the 4-point Gauss rule on the edge's element
-        sides, point loads (PointLoad) by the basis at the point.
+        Body densities (Gravity, BodyForce) and wind by the 4 x 4 Gauss rule
+        (the wind with the exact normal of the element surface and the
+        velocities V, None: at rest), edge tractions (EdgeLoad) by the 4-point
+        Gauss rule on the edge's element sides, point loads and springs by the
+        basis at their point.
         """
-        F = np.zeros((self.ndof, 3))
-        h = (self.h1, self.h2)
+        return self.loads.total(self._check_state(X), t, V)
+
+    # -- the hooks of deformable.loads ---------------------------------------
+    def integrate(self, density: np.ndarray) -> np.ndarray:
+        """integral f phi_k of a density f (N/m^2) at the Gauss points, (E, nq, 3): (ndof, 3) (N)."""
+        f = np.asarray(density).reshape(*self.a1q.shape, 3) * self.weights[:, None]  # (E, nq, 3)
+        return self._scatter @ (f.transpose(0, 2, 1) @ self.dq[0, 0].T).transpose(0, 2, 1).reshape(-1, 3)
+
+    def at_points(self, X: np.ndarray, d: tuple[int, int] = (0, 0)) -> np.ndarray:
+        """The field X or its derivative d = (d1, d2) at the Gauss points, (E nq, 3)."""
+        return evaluate(np.asarray(X, float), self.ldofs, [self.dq[tuple(d)]])[:, 0].reshape(3, -1).T
+
+    def density_matrix(self, c: np.ndarray) -> sp.csr_matrix:
+        """integral c phi_k phi_l (ndof, ndof) for a field c at the Gauss points (E, nq), on K's pattern."""
+        return self.strength.density_matrix(np.asarray(c).reshape(self.a1q.shape))
+
+    def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]:
+        """The 16 degrees of freedom of the element holding parameter point a and its basis there: r(a) = w . X[dofs].
+
+        ``what`` is named in the ValueError for a point outside the sheet.
+        """
+        e, s, t = self._locate(np.asarray(a, float)[None], what)
+        return self.ldofs[e[0]], basis(s, t, (self.h1, self.h2))[:, 0]
+
+    def edge_load(self, force, t: float) -> np.ndarray:
+        """An EdgeLoad's traction integrated against the basis on the edge's element sides (4-point Gauss), (ndof, 3)."""
         x, w = get_quadrature_line(2 * GAUSS_POINTS - 1)
         x = x[0]
-        for force in self.scene.forces:
-            if force.kind == "body":
-                f = force.density(self.a1q, self.a2q, t, self.mu) * self.weights[:, None]  # (E, nq, 3)
-                F += self._scatter @ (f.transpose(0, 2, 1) @ self.dq[0, 0].T).transpose(0, 2, 1).reshape(-1, 3)
-            elif force.kind == "edge":
-                edge = self.scene.sheet.edge(force.edge)
-                end = 0 if edge.side == 0 else self.scene.sheet.nodes[edge.axis] - 2  # the elements along the edge
-                e = np.flatnonzero(self.elem_ij[:, edge.axis] == end)
-                ref = [x, x]
-                ref[edge.axis] = np.full_like(x, 0.0 if edge.side == 0 else 1.0)
-                s, tt = ref
-                a1 = (self.elem_ij[e, 0, None] + s[None]) * self.h1
-                a2 = (self.elem_ij[e, 1, None] + tt[None]) * self.h2
-                q = force.traction(a1, a2, t) * (w * self.spacing[edge.along])[None, :, None]  # (Ee, nq, 3)
-                local = np.einsum("eqc,lq->elc", q, basis(s, tt, h))
-                np.add.at(F, self.ldofs[e], local)
-            else:
-                e, s, tt = self._locate(np.asarray(force.at)[None], "PointLoad.at")
-                F[self.ldofs[e[0]]] += basis(s, tt, h)[:, 0, None] * force.force(t)[None]
+        edge = self.scene.sheet.edge(force.edge)
+        end = 0 if edge.side == 0 else self.scene.sheet.nodes[edge.axis] - 2  # the elements along the edge
+        e = np.flatnonzero(self.elem_ij[:, edge.axis] == end)
+        ref = [x, x]
+        ref[edge.axis] = np.full_like(x, 0.0 if edge.side == 0 else 1.0)
+        s, tt = ref
+        a1 = (self.elem_ij[e, 0, None] + s[None]) * self.h1
+        a2 = (self.elem_ij[e, 1, None] + tt[None]) * self.h2
+        q = force.traction(a1, a2, t) * (w * self.spacing[edge.along])[None, :, None]  # (Ee, nq, 3)
+        F = np.zeros((self.ndof, 3))
+        np.add.at(F, self.ldofs[e], np.einsum("eqc,lq->elc", q, basis(s, tt, (self.h1, self.h2))))
         return F
 
     def energy(self, X: np.ndarray) -> Energy:

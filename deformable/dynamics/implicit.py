@@ -20,6 +20,15 @@ backend's integrated matrices and load and x-hat = x_n + dt v_n:
 
 The stationarity of Phi is the equation of motion (11) at t_{n+1} in each scheme.
 
+External forces (:mod:`deformable.loads`): applied loads are F_{n+1}; the
+scene's springs are part of E (their anchors at t_{n+1}); the wind, which
+depends on velocities, is linearised about the start of the step,
+``f(v) = f_n - D_n (v - v_n)`` with its velocity Jacobian D_n (a positive
+semi-definite damping): each scheme then takes it exactly like C, with
+C + D_n in place of C and f_n + D_n v_n added to F_{n+1}. The step stays
+unconditionally stable in the wind's damping; the wind's dependence on the
+normal (positions) is lagged, a first-order error in time.
+
 dt may change from step to step (the controller halves it when Newton does
 not converge and lets it grow back): both schemes take the step length as an
 argument. A step whose Newton solve does not reach its tolerance is never
@@ -81,7 +90,11 @@ class Implicit:
     def acceleration(self, state) -> np.ndarray:
         """a = M^-1 (F - C v - grad E) at a state (flat), for starting Newmark."""
         fl = self.flat
-        rhs = fl.load(state.X, state.t) - fl.C @ flat(state.V) - fl.gradient(flat(state.X))
+        fl.t = state.t
+        F = fl.load(state.t)
+        if fl.loads.winds:
+            F += flat(fl.loads.wind_force(state.X, state.V, state.t))
+        rhs = F - fl.C @ flat(state.V) - fl.gradient(flat(state.X))
         a = np.zeros(3 * fl.n)
         f = fl.free
         a[f] = spla.spsolve(fl.M[f][:, f].tocsc(), rhs[f])
@@ -97,10 +110,15 @@ class Implicit:
         t1 = state.t + dt
         xn, vn = flat(state.X), flat(state.V)
         xhat = xn + dt * vn
-        F = fl.load(state.X, t1)
+        F = fl.load(t1)
         M, C = fl.M, fl.C
+        D = None
+        if fl.loads.winds:  # the wind linearised about the step's start: a damping D and a load (module docstring)
+            D = fl.loads.wind_damping(state.X, state.V, t1)
+            F = F + flat(fl.loads.wind_force(state.X, state.V, t1)) + D @ vn
+            C = C + D
+        cm, cc = (1 / dt**2, 1 / dt) if self.name == "implicit-euler" else (4 / dt**2, 2 / dt)
         if self.name == "implicit-euler":
-            cm, cc = 1 / dt**2, 1 / dt
 
             def phi(x):
                 dx, dn = x - xhat, x - xn
@@ -109,7 +127,6 @@ class Implicit:
             def grad(x):
                 return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x) - F
         else:
-            cm, cc = 4 / dt**2, 2 / dt
             if self._acc is None or self._acc[0] != state.step or self._acc[1] != state.t:
                 self._acc = (state.step, state.t, self.acceleration(state))
             an = self._acc[2]
@@ -124,8 +141,10 @@ class Implicit:
                 return 4 * M @ (x - xhat) / dt**2 - Man + 2 * C @ (x - xn) / dt - Cvn + fl.gradient(x) - F
 
         label = f"{self.name} step {state.step + 1} (t = {t1:.6g} s, dt = {dt:.3g} s)"
+        fl.t = t1
         try:
-            x, report = self.newton.minimise(phi, grad, fl.hold(xhat, X0, t1), cm, cc, label)
+            x, report = self.newton.minimise(phi, grad, fl.hold(xhat, X0, t1), cm, cc, label,
+                                             None if D is None else cc * D)
         except ConvergenceError as err:
             self.rejected += 1
             raise StepRejected(str(err)) from err

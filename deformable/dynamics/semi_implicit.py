@@ -108,7 +108,7 @@ class SemiImplicit:
         dt, model = self.dt, self.model
         factors = self._factorise(state.X)
         t0 = time.perf_counter()
-        G = model.load(state.X, state.t) + self._B1 @ state.X + self._B2 @ state.V
+        G = model.load(state.X, state.t, state.V) + self._B1 @ state.X + self._B2 @ state.V
         Xn = np.array(model.prescribed(X0, state.t + dt), dtype=float)
         for (block, lu, Afc), (_, comps) in zip(factors, self._groups):
             free, fixed = block["free"], block["fixed"]

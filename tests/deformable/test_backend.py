@@ -21,10 +21,10 @@ from validation.harness.surfaces import get
 from ..conftest import FULL_ETA, FULL_XI, flat_model, flat_scene, gradient_error, hessian_error
 
 #: attributes and methods the contract names (deformable.backend.Backend's docstring)
-ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points"}
+ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads"}
 METHODS = {"initial_state", "discretize", "grid", "tensors", "sample", "stiffness", "mass", "damping", "load",
            "internal_force", "fixed_dofs", "prescribed", "stable_step", "energy", "kinetic_energy",
-           "energy_gradient", "energy_hessian"}
+           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_load"}
 #: degrees of freedom per node
 NODE_DOFS = {"fd": 1, "fe": 4}
 #: small grids for the finite-difference checks of the energy's derivatives (cost ~ ndof^2)
@@ -214,10 +214,10 @@ def test_time_dependent_load(backend):
     assert abs(model.load(X, 0.25)[model.value_dofs, 2].sum() - 1.0) < 1e-12
 
 
-def test_point_load_outside_the_sheet_names_its_field(backend):
-    bad = flat_model(backend, nodes=(4, 4), forces=[dm.PointLoad((0.2, 2.0), (0, 0, 1.0))])
-    with pytest.raises(ValueError, match=r"PointLoad\.at .*2\..* outside"):
-        bad.load(bad.initial_state(), 0.0)
+@pytest.mark.parametrize("force", [dm.PointLoad((0.2, 2.0), (0, 0, 1.0)), dm.Spring((0.2, 2.0))])
+def test_a_point_outside_the_sheet_names_its_field(force):
+    with pytest.raises(ValueError, match=rf"{type(force).__name__}\.at .*2\..* outside"):
+        flat_scene((4, 4), forces=[force])
 
 
 # -- constraints ------------------------------------------------------------------------------
