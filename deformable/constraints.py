@@ -89,15 +89,28 @@ class Pin:
 
 @dataclass(frozen=True)
 class Slide:
-    """Let the selected nodes move only along ``axis`` ("x", "y", "z" or 0, 1, 2)."""
+    """Let the selected nodes move only along ``axis`` ("x", "y", "z" or 0, 1, 2), or in the plane of two axes.
+
+    ``Slide("top", "x")`` is a rail along x; ``Slide("top", ("x", "y"))`` a
+    horizontal plane the nodes stay in (a curtain rod whose rings slide along x
+    and swing out along y, holding only the height). ``axes`` is the tuple of
+    free coordinates.
+    """
 
     where: object
     axis: object = "x"
 
     def __post_init__(self):
-        if self.axis not in AXES:
-            raise ValueError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2; got {self.axis!r}")
-        object.__setattr__(self, "axis", AXES[self.axis])
+        given = self.axis if isinstance(self.axis, (tuple, list)) else (self.axis,)
+        ok = 1 <= len(given) <= 2 and all(not isinstance(a, bool) and a in AXES for a in given)
+        axes = tuple(sorted({AXES[a] for a in given})) if ok else ()
+        if not ok or len(axes) != len(given):
+            raise ValueError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got {self.axis!r}")
+        object.__setattr__(self, "axis", axes[0] if len(axes) == 1 else axes)
+
+    @property
+    def axes(self) -> tuple[int, ...]:
+        return self.axis if isinstance(self.axis, tuple) else (self.axis,)
 
 
 @dataclass(frozen=True)
@@ -169,8 +182,8 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
             fixed[:, held] = True
             if c.motion is not None:
                 motions.append((values, c.motion))
-        else:  # Slide: every component but the rail's axis
+        else:  # Slide: every component but the rail's axes
             for k in range(3):
-                if k != c.axis:
+                if k not in c.axes:
                     fixed[k, held] = True
     return HeldDofs(tuple(np.flatnonzero(f) for f in fixed), motions)

@@ -7,61 +7,88 @@ are the scene's values) and a builder that turns it into a
 name, gives the Scene on a node grid::
 
     scene = scenes.curtain(nodes=(32, 32))             # a Scene
-    cfg = scenes.config("curtain", eta=80.0)           # the config, overridden
+    cfg = scenes.config("curtain", xi=1e-4)            # the config, overridden
     cfg = scenes.read_toml("my-curtain.toml")          # scene = "curtain" + fields
     scene = scenes.build(cfg)
 
-Scenes (paper section 5; all with eta_11 = eta_22 = eta, xi_11 = xi_22 = xi,
-eta_12 = xi_12 = 0 as in section 3.2):
+The model. Every scene runs the energy-consistent ("variational") model by
+default: its force is the gradient of the energy (13), so a flat sheet resists
+bending and survives compression, which the folding scenes go through. The
+paper's force (14) is one field away (``force_model = "tpbf87"``, or
+``deformable run --force-model tpbf87``): under it a flat sheet has no linear
+bending stiffness and compression has no restoring force, so the drawn curtain
+zigzags at the grid scale (xi = 0) or crumples (xi > 0) (docs/design.md,
+"Findings"). The weight tensors are full, ``eta_12 = shear eta`` and
+``xi_12 = shear xi`` with ``shear = 1``: the isotropic sheet with Poisson ratio
+0 (with the variational model, the St Venant-Kirchhoff plate of E h = 8 eta,
+D = 2 xi). The paper sets eta_12 = xi_12 = 0 (``shear = 0``); without shear
+resistance a compressed sheet shortens in its own plane by shearing (its
+fibres zigzag in the plane at no cost in G_11, G_22 or B), and the drawn
+curtain never folds out of its plane.
+
+The same eta, xi are a different material under the two force models: about
+eta = 20 N/m the variational force is 4 times stiffer in stretching, and 2
+times in bending, than the paper's (:func:`equivalent_weights` maps them).
+
+Macro control (section 3.1): ``scale`` multiplies mu, gamma and the applied
+forces (gravity through mu, the curtain's push, the coils' stiffness, the
+wind's drag) while eta and xi stay: the motion is then the one the unscaled
+sheet would have with eta / scale and xi / scale, a relatively softer sheet
+(:meth:`SceneConfig.scaling`). The fields mu and gamma are the real-world
+values before scaling, so a scene file states the physics and its scaling
+apart, as section 4 recommends.
+
+Scenes (paper section 5), and how they differ from the paper's text:
 
 ``hanging``
     A square cloth, initially horizontal, pinned at its two top corners,
-    falling and swinging under gravity.
-``curtain``
-    The opening curtain of Figs 3-4: the sheet hangs in the vertical x-z
-    plane, its top row slides on a rail along x (``Slide("top", "x")``), the
-    rail end at a1 = 0 is pinned. Forces perpendicular to the rest plane
-    (along y, alternating in sign across the width, strongest on the upper
-    part) push the sheet out of its plane into folds; the folded fibres, in
-    tension, draw the rail nodes together (the rail gathers to about half its
-    width in 2 s). The rail row hangs from rings: eta_11 = 0 on it, so being
-    gathered costs it nothing.
-``curtain-silky``
-    Fig. 5: the same curtain with mu, gamma and the applied forces scaled up
-    (the macro-control scaling of section 3.1), eta unchanged.
-``paper``
-    Fig. 6: the silky curtain with curvature resistance xi = 3e-6 N m.
-``flag``
-    Figs 7-8: the pole edge (a1 = 0) pinned, gravity, and a wind load on the
-    sheet that varies in time: a steady push away from the pole plus a
-    pressure wave across the sheet travelling from the pole to the free edge.
+    falling and swinging under gravity (not in the paper; the simplest scene).
+``curtain`` (Figs 3-4)
+    The curtain hangs in the vertical x-z plane. Its top row keeps its height
+    on the rod and slides along it (``Slide("top", ("x", "y"))``: rings slide
+    along x and swing out along y); the rod end at a1 = 0 is pinned and the
+    other end is drawn along the rod (a prescribed motion, a smooth ramp over
+    ``draw_time``), gathering the top to ``1 - gather`` of its width. The
+    cloth below, compressed across, folds by itself: nothing in the loads
+    selects a wavelength. A small seeded perturbation of the flat start
+    (``noise``, white over the wavelengths 2 L1 / 32 .. 2 L1 along the width)
+    decides which way each fold goes, identically on every grid and backend.
+    The fold width then follows from the material, the bending length of a
+    sheet held by its weight (:func:`fold_wavelength`). Differences from the
+    paper: its curtain is folded by "external forces perpendicular to the
+    plane on the upper part" and its top restricted "to the axis where it
+    should slide"; here the top is drawn and may swing out of the rod's line
+    (held on a line, every top node would be a hinge at y = 0 and folds
+    would start at grid scale under the rod). The paper's perpendicular push
+    stays available (``push``; ``folds > 0`` gives it the earlier sin pattern,
+    which selects the number of folds).
+``curtain-silky`` (Fig. 5)
+    The curtain with ``scale = 20`` (mu, gamma, f times 20, section 3.1), on
+    a 64 x 64 grid that resolves its shorter bending length. The paper keeps
+    xi = 0 here; under the variational model xi = 0 has no length scale and
+    folds at grid scale, so the silky curtain keeps the curtain's xi.
+``paper`` (Fig. 6)
+    The silky curtain with 16 times its curvature resistance, so that the
+    fold wavelength doubles ((16)^(1/4) = 2). The paper's xi = 3e-6 N m (under
+    its force, 1.5e-6 N m in the variational model's terms) is below the
+    silky curtain's xi here and would make the paper *softer*, not stiffer.
+``flag`` (Figs 7-8)
+    A flag on its pole (the edge a1 = 0 pinned), the paper's "coil force" on
+    its free side: two springs from the free corners to anchors beyond the
+    flag that swing across it (``swing``, ``frequency``), and wind along the
+    flag (aerodynamic pressure on the normal with the relative velocity,
+    :class:`~deformable.forces.Wind`), which presses on every fold the coils
+    raise and damps the motion across the flag. The coils drive the waves
+    from the free side, so they travel towards the pole (a real flag's waves
+    come from the flow and travel to its free edge; the paper names only the
+    coil). The springs keep the flag out against gravity, which a real flag's
+    skin friction does.
 
-Scaling (section 3.1). Equation (11), ``mu r_tt + gamma r_t + e(r) = f``, gives
-the same trajectory for (a mu, a gamma, a f) with the elastic weights scaled
-by a as well; the macro-control triple (mu, gamma, f) may therefore be scaled
-to a numerically convenient range while eta, xi fine-tune the shape
-(micro-control, section 4). Each scene records its ``scale``: the factor
-applied to the real-world mu, gamma and applied forces (gravity, being mu g,
-scales with mu by itself).
-
-Stability (docs/design.md, "Time stepping"). The tpbf87 step lags alpha_ij,
-so it is only conditionally stable on stretching: dt must stay below about
-``h sqrt(mu / (2 eta G))`` on FD (the backend's ``stable_step()``). Each
-scene's default dt keeps a margin of at least 1.4 below the FD bound on its
-default 32 x 32 grid, and a finer grid needs a proportionally smaller dt (the
-command line warns, and picks FE's own, smaller, step).
-Compression makes alpha < 0, a negative stiffness: with xi = 0 (and under
-tpbf87 even with xi > 0, whose linear bending stiffness about a flat sheet is
-zero) nothing resists grid-scale crumpling, and a compressed region collapses
-into a crumpled ball within a fraction of a second (measured: a curtain whose
-rail end was pulled along the rail, or a prestressed curtain left free to
-contract, both did). The folding scenes are therefore built so that the sheet
-stays in tension: the folds are *pushed* out of plane by the perpendicular
-load over the whole height (fibres get longer, alpha > 0) and the rail is
-drawn together by that tension, instead of the rail being pushed together
-(which compresses the cloth below it). Measured at 32 x 32 over 2 s: G11 stays
-above 0.86 in the curtain (0.75 in the silky one), G22 above 1. A run that
-leaves these bounds is caught by the DivergenceGuard of the run command.
+Stability. With the variational model the implicit-Euler step has no
+stretching bound; the default dt (5 ms) keeps about three Newton iterations a
+step. Under the paper's force the semi-implicit step is bounded by about
+``h sqrt(mu / (2 eta G))`` (the backend's ``stable_step()``): ``deformable
+run`` then takes half of it when the scene's dt is larger.
 """
 
 from __future__ import annotations
@@ -72,12 +99,12 @@ import math
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
 
 from .constraints import Pin, Slide
-from .forces import BodyForce, Gravity
+from .forces import BodyForce, Gravity, Spring, Wind
 from .material import Material
 from .scene import FORCE_MODELS, Scene
 from .sheet import Plane, Sheet
@@ -85,6 +112,7 @@ from .sheet import Plane, Sheet
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
     "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml",
+    "equivalent_weights", "fold_wavelength", "smooth_ramp", "FoldNoise",
 ]
 
 log = logging.getLogger(__name__)
@@ -95,6 +123,99 @@ log = logging.getLogger(__name__)
 VERTICAL = Plane(e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 #: the horizontal x-y plane (the default rest shape)
 HORIZONTAL = Plane()
+
+#: linearised stiffness of the variational force against the paper's at the same weights (stretching, bending)
+VARIATIONAL_STIFFNESS = (4.0, 2.0)
+
+
+def equivalent_weights(eta: float, xi: float, source: str = "tpbf87", target: str = "variational"):
+    """(eta, xi) under ``target`` with the linearised stiffness of (eta, xi) under ``source``.
+
+    About a rest state, the paper's force (14) ``-d_i(eta (G - G0) d_j r) + ...``
+    has the stretching stiffness eta and the bending stiffness xi; the gradient
+    of the energy (13) has 4 eta (G = r . r is quadratic in r, and (G - G0)^2
+    again) and 2 xi. So ``equivalent_weights(20, 1e-5)`` is (5, 5e-6): the
+    variational weights of the same linear material. The frozen model counts
+    like tpbf87 (its alpha, beta are the paper's).
+    """
+    for name in (source, target):
+        if name not in FORCE_MODELS:
+            raise ValueError(f"force model must be one of {FORCE_MODELS}, got {name!r}")
+    factor = {m: VARIATIONAL_STIFFNESS if m == "variational" else (1.0, 1.0) for m in FORCE_MODELS}
+    (se, sx), (te, tx) = factor[source], factor[target]
+    return eta * se / te, xi * sx / tx
+
+
+def smooth_ramp(s):
+    """0 before s = 0, 1 after s = 1, ``s^3 (10 - 15 s + 6 s^2)`` between: no jump in velocity or acceleration."""
+    s = np.clip(s, 0.0, 1.0)
+    return s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def fold_wavelength(xi: float, mu: float, g: float, height: float, scale: float = 1.0,
+                    force_model: str = "variational") -> float:
+    r"""The bending-length scale of the folds of a hanging sheet, ``(D H / (mu g))^(1/4)`` (m).
+
+    A sheet hanging under its own weight and compressed across its width
+    wrinkles where its bending stiffness D balances the stiffness of the
+    tension that holds it straight: Cerda and Mahadevan (2003, "Geometry and
+    physics of wrinkling", Phys. Rev. Lett. 90, 074302) give
+    ``lambda ~ (D / K)^(1/4)`` with the tension's effective stiffness
+    ``K = T / H^2``; a curtain's tension is its weight below, T ~ mu g H, so
+    ``lambda ~ (D H / (mu g))^(1/4)``. The number of folds across a given
+    width scales as ``xi^(-1/4)``; the prefactor is the curtain's own (the
+    paper study measures it). D = 2 xi under the variational model, xi under
+    the paper's force; mu and the forces are scaled together, so ``scale``
+    divides D.
+    """
+    D = xi * (VARIATIONAL_STIFFNESS[1] if force_model == "variational" else 1.0)
+    return (D * height / (scale * mu * g)) ** 0.25
+
+
+@dataclass(frozen=True)
+class FoldNoise:
+    """The curtain's start: its rest plane plus a small seeded ripple along y, a Surface with exact derivatives.
+
+    ``y = noise * sum_k c_k sin(k pi a1 / L1 + phi_k)`` for k = 1..modes, c_k
+    standard normal over sqrt(modes / 2) (so the RMS is about ``noise``) and
+    phi_k uniform: white over the wavelengths 2 L1 / modes .. 2 L1, the same
+    function on every grid and backend.
+    """
+
+    width: float
+    noise: float
+    seed: int
+    modes: int = 32
+
+    def _coefficients(self):
+        rng = np.random.default_rng(self.seed)
+        c = rng.normal(size=self.modes) / math.sqrt(self.modes / 2)
+        phi = rng.uniform(0.0, 2.0 * math.pi, self.modes)
+        k = np.arange(1, self.modes + 1) * math.pi / self.width
+        return self.noise * c, k, phi
+
+    def _ripple(self, a1, order):
+        c, k, phi = self._coefficients()
+        a1 = np.asarray(a1, float)[..., None]
+        if order == 0:
+            return np.sum(c * np.sin(k * a1 + phi), axis=-1)
+        return np.sum(c * k * np.cos(k * a1 + phi), axis=-1)
+
+    def r(self, a1, a2):
+        a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
+        return np.stack([a1, self._ripple(a1, 0), a2], axis=-1)
+
+    def r1(self, a1, a2):
+        a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
+        return np.stack([np.ones_like(a1), self._ripple(a1, 1), np.zeros_like(a1)], axis=-1)
+
+    def r2(self, a1, a2):
+        a1, _ = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
+        return np.broadcast_to(np.array([0.0, 0.0, 1.0]), a1.shape + (3,)).copy()
+
+    def r12(self, a1, a2):
+        a1, _ = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
+        return np.zeros(a1.shape + (3,))
 
 
 # -- configs -------------------------------------------------------------------
@@ -111,22 +232,24 @@ class SceneConfig:
     nodes : (M, N)
         Node grid.
     mu : float
-        Mass density in kg/m^2 (after scaling).
+        Real-world mass density in kg/m^2 (the scene uses ``scale * mu``).
     gamma : float
-        Damping density in kg/(m^2 s) (after scaling).
+        Real-world damping density in kg/(m^2 s) (the scene uses ``scale * gamma``).
     eta, xi : float
-        Stretching (N/m) and bending (N m) weights, eta_11 = eta_22, xi_11 = xi_22.
+        Stretching (N/m) and bending (N m) weights of eq. (13), eta_11 = eta_22 = eta, xi_11 = xi_22 = xi.
+    shear : float
+        eta_12 = shear eta and xi_12 = shear xi (1: the isotropic sheet with
+        Poisson ratio 0; the paper: 0).
     g : float
         Gravity in m/s^2 (the force mu g scales with mu).
     scale : float
-        The section 3.1 factor already applied to mu, gamma and the applied forces
-        (recorded for the reader; changing it does not rescale the other fields).
+        The section 3.1 factor on mu, gamma and the applied forces (:meth:`scaling`).
     dt : float
         Default time step (s).
     t_end : float
         Default simulated time (s).
     force_model : str
-        "tpbf87" (default) or another of :data:`deformable.FORCE_MODELS`.
+        "variational" (default) or another of :data:`deformable.FORCE_MODELS`.
     rest_metric : (G0_11, G0_22)
         The rest metric G0 = diag(G0_11, G0_22) (dimensionless); (1, 1) is the
         flat rest shape itself. A value below 1 prestresses the sheet: it is
@@ -138,14 +261,18 @@ class SceneConfig:
     nodes: tuple = (32, 32)
     mu: float = 0.2
     gamma: float = 0.1
-    eta: float = 50.0
-    xi: float = 0.0
+    eta: float = 20.0
+    xi: float = 1e-5
+    shear: float = 1.0
     g: float = 9.81
     scale: float = 1.0
-    dt: float = 1e-3
+    dt: float = 5e-3
     t_end: float = 2.0
-    force_model: str = "tpbf87"
+    force_model: str = "variational"
     rest_metric: tuple = (1.0, 1.0)
+    #: fields that must be positive, and non-negative (subclasses add theirs)
+    POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
+    NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi")
 
     def __post_init__(self):
         for f in fields(self):
@@ -168,15 +295,27 @@ class SceneConfig:
                 if not ok:
                     raise ValueError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
                 object.__setattr__(self, f.name, tuple(kind(v) for v in pair))
+            elif f.type in (int, "int"):
+                if isinstance(value, bool) or not isinstance(value, (int, float)) or int(value) != value:
+                    raise ValueError(f"scene field {f.name} must be an integer, got {value!r}")
+                object.__setattr__(self, f.name, int(value))
             else:
                 if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                     raise ValueError(f"scene field {f.name} must be a finite number, got {value!r}")
                 object.__setattr__(self, f.name, float(value))
-        for name in ("dt", "t_end", "mu"):
+        for name in self.POSITIVE:
             if getattr(self, name) <= 0:
                 raise ValueError(f"scene field {name} must be positive, got {getattr(self, name)!r}")
+        for name in self.NON_NEGATIVE:
+            if getattr(self, name) < 0:
+                raise ValueError(f"scene field {name} must be non-negative, got {getattr(self, name)!r}")
+        if not 0 <= self.shear <= 1:
+            raise ValueError(f"scene field shear must lie in [0, 1] (eta_12 <= eta keeps eq. (13) definite), "
+                             f"got {self.shear!r}")
         if min(self.rest_metric) <= 0 or min(self.size) <= 0:
             raise ValueError(f"scene fields size and rest_metric must be positive, got {self.size!r}, {self.rest_metric!r}")
+        if min(self.nodes) < 3:
+            raise ValueError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
 
     def scene_kwargs(self) -> dict:
         """Keyword arguments of Scene common to every scene (force model, rest metric, name)."""
@@ -192,7 +331,20 @@ class SceneConfig:
         return dataclasses.replace(self, **changes)
 
     def material(self) -> Material:
-        return Material(mu=self.mu, gamma=self.gamma, eta=self.eta, xi=self.xi)
+        """mu, gamma times ``scale``; eta and xi as full tensors (``shear`` off the diagonal)."""
+        def tensor(w):
+            return np.array([[w, self.shear * w], [self.shear * w, w]])
+
+        return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=tensor(self.eta),
+                        xi=tensor(self.xi))
+
+    def scaling(self) -> str:
+        """What ``scale`` does, in words (section 3.1)."""
+        if self.scale == 1:
+            return "scale 1: mu, gamma and the forces are the real-world values"
+        return (f"scale {self.scale:g}: mu, gamma and the applied forces are {self.scale:g} times the real-world "
+                f"values while eta and xi stay, so the sheet moves as the real one would with eta = "
+                f"{self.eta / self.scale:.4g} N/m and xi = {self.xi / self.scale:.4g} N m (section 3.1)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -202,23 +354,43 @@ class HangingConfig(SceneConfig):
 
 @dataclass(frozen=True, kw_only=True)
 class CurtainConfig(SceneConfig):
-    """The opening curtain (Figs 3-5).
+    """The opening curtain (Figs 3-6).
 
     Parameters
     ----------
+    gather : float
+        How far the drawn end of the rod travels, as a fraction of the width
+        (0.6: the top gathers to 40 % of it); 0 leaves the top in place.
+    draw_time : float
+        Seconds over which it is drawn (a smooth ramp, :func:`smooth_ramp`).
+    noise : float
+        RMS of the start's ripple across the plane (m, :class:`FoldNoise`).
+    seed : int
+        Seed of the ripple.
     push : float
-        Amplitude of the force density perpendicular to the rest plane (N/m^2),
-        ``push sin(pi folds a1 / L1)`` along y on the upper part.
+        Force density perpendicular to the rest plane on the upper part
+        (N/m^2, real-world, along y), the paper's mechanism; 0 by default.
     folds : float
-        Number of half-waves of the push across the width.
+        0: a uniform push; n > 0: ``push sin(pi n a1 / L1)``, which selects n
+        half-waves (the earlier scene's load).
     taper : float
-        The push at the hem as a fraction of the push at the rail (it varies
-        linearly in between: the upper part is pushed hardest).
+        The push at the hem as a fraction of the push at the rod (linear between).
     """
 
-    push: float = 1.0
-    folds: float = 6.0
+    gather: float = 0.6
+    draw_time: float = 1.6
+    noise: float = 1e-3
+    seed: int = 1
+    push: float = 0.0
+    folds: float = 0.0
     taper: float = 0.5
+    POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("draw_time",)
+    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("noise", "folds")
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not 0 <= self.gather < 1:
+            raise ValueError(f"scene field gather must lie in [0, 1), got {self.gather!r}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -228,19 +400,30 @@ class FlagConfig(SceneConfig):
     Parameters
     ----------
     wind : float
-        Steady wind force density along +x, away from the pole (N/m^2).
-    gust : float
-        Amplitude of the pressure wave along y (N/m^2).
+        Wind speed along +x, away from the pole (m/s).
+    drag : float
+        c = rho C_d / 2 of the wind's pressure (kg/m^3; air 0.6), real-world.
+    coil : float
+        Stiffness of each of the two coils at the free corners (N/m), real-world.
+    reach : float
+        How far beyond the free edge the coils' anchors are (m).
+    swing : float
+        Amplitude of the anchors' swing across the flag, along y (m).
     frequency : float
-        Frequency of the pressure wave (Hz).
-    wavelength : float
-        Wavelength of the pressure wave along a1 (m); it travels away from the pole.
+        Frequency of the swing (Hz).
+    ramp : float
+        Seconds over which the swing grows to its amplitude.
     """
 
-    wind: float = 1.0
-    gust: float = 1.0
-    frequency: float = 1.0
-    wavelength: float = 1.0
+    wind: float = 10.0
+    drag: float = 0.6
+    coil: float = 30.0
+    reach: float = 0.1
+    swing: float = 0.15
+    frequency: float = 4.0
+    ramp: float = 0.5
+    POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("ramp",)
+    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("drag", "coil", "swing", "frequency")
 
 
 # -- builders ------------------------------------------------------------------
@@ -252,36 +435,42 @@ def _hanging(cfg: HangingConfig) -> Scene:
 
 def _curtain(cfg: CurtainConfig) -> Scene:
     L1, L2 = cfg.size
-    M, N = cfg.nodes
-    sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=VERTICAL)
-    k = math.pi * cfg.folds / L1
+    start = FoldNoise(L1, cfg.noise, cfg.seed) if cfg.noise > 0 else VERTICAL
+    sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=VERTICAL, initial=start)
+    forces = [Gravity(cfg.g)]
+    if cfg.push:
+        push, k = cfg.scale * cfg.push, math.pi * cfg.folds / L1
 
-    def push(a1, a2, t):
-        fy = cfg.push * np.sin(k * a1) * (cfg.taper + (1.0 - cfg.taper) * a2 / L2)
-        return np.stack([np.zeros_like(fy), fy, np.zeros_like(fy)], axis=-1)
+        def perpendicular(a1, a2, t):
+            pattern = np.sin(k * a1) if cfg.folds else np.ones_like(a1)
+            fy = push * pattern * (cfg.taper + (1.0 - cfg.taper) * a2 / L2)
+            return np.stack([np.zeros_like(fy), fy, np.zeros_like(fy)], axis=-1)
 
-    # the rail row hangs from rings: no resistance to being gathered (eta_11 = 0 there)
-    eta = np.zeros((2, 2, M, N))
-    eta[0, 0] = eta[1, 1] = cfg.eta
-    eta[0, 0, :, -1] = 0.0
-    material = Material(mu=cfg.mu, gamma=cfg.gamma, eta=eta, xi=cfg.xi)
-    forces = [Gravity(cfg.g), BodyForce(push)]
-    constraints = [Slide("top", "x"), Pin("top-left")]
-    return Scene(sheet, material, forces=forces, constraints=constraints, **cfg.scene_kwargs())
+        forces.append(BodyForce(perpendicular))
+    constraints = [Slide("top", ("x", "y")), Pin("top-left")]
+    if cfg.gather:
+        travel, duration = cfg.gather * L1, cfg.draw_time
+
+        def draw(t):
+            return (-travel * float(smooth_ramp(t / duration)), 0.0, 0.0)
+
+        constraints.append(Pin("top-right", motion=draw))
+    return Scene(sheet, cfg.material(), forces=forces, constraints=constraints, **cfg.scene_kwargs())
 
 
 def _flag(cfg: FlagConfig) -> Scene:
+    L1, L2 = cfg.size
     sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=VERTICAL)
-    w = 2.0 * math.pi * cfg.frequency
-    k = 2.0 * math.pi / cfg.wavelength
+    omega = 2.0 * math.pi * cfg.frequency
 
-    def wind(a1, a2, t):
-        fx = np.full(np.shape(a1), cfg.wind)
-        fy = cfg.gust * np.sin(w * t - k * a1) * np.ones_like(a2)
-        return np.stack([fx, fy, np.zeros_like(fx)], axis=-1)
+    def anchor(z):
+        def where(t):
+            return (L1 + cfg.reach, cfg.swing * math.sin(omega * t) * float(smooth_ramp(t / cfg.ramp)), z)
+        return where
 
-    return Scene(sheet, cfg.material(), forces=[Gravity(cfg.g), BodyForce(wind)], constraints=[Pin("left")],
-                 **cfg.scene_kwargs())
+    coils = [Spring((L1, z), anchor(z), cfg.scale * cfg.coil) for z in (0.0, L2)]
+    forces = [Gravity(cfg.g), Wind((cfg.wind, 0.0, 0.0), cfg.scale * cfg.drag), *coils]
+    return Scene(sheet, cfg.material(), forces=forces, constraints=[Pin("left")], **cfg.scene_kwargs())
 
 
 @dataclass(frozen=True)
@@ -307,31 +496,27 @@ class SceneSpec:
         """The default time step (s)."""
         return self.config().dt
 
-    def __call__(self, nodes=(32, 32), **fields_) -> Scene:
-        return self.builder(self.config(nodes=tuple(nodes), **fields_))
+    def __call__(self, nodes=None, **fields_) -> Scene:
+        if nodes is not None:
+            fields_["nodes"] = tuple(nodes)
+        return self.builder(self.config(**fields_))
 
 
-# Real-world starting point (section 4): cloth of about 0.2 kg/m^2. The curtain
-# and the flag keep scale 1; the silky curtain and the paper multiply mu, gamma
-# and the push by 20, which raises the dt bound by sqrt(20) at the same eta.
-_CURTAIN = dict(size=(1.0, 1.2), mu=0.2, gamma=0.5, eta=20.0, xi=0.0, push=3.0, folds=6.0, taper=0.5,
-                dt=1e-3, t_end=2.0)
-_SILKY = dict(_CURTAIN, mu=4.0, gamma=10.0, eta=100.0, push=60.0, scale=20.0, dt=2e-3)
+# Real-world starting point (section 4): a light cloth of 0.2 kg/m^2, E h = 8 eta = 160 N/m, D = 2 xi = 2e-5 N m.
+_CURTAIN = dict(size=(1.0, 1.2), mu=0.2, gamma=0.2, eta=20.0, xi=1e-5)
+_SILKY = dict(_CURTAIN, scale=20.0, nodes=(64, 64))
 SCENES: dict[str, SceneSpec] = {}
 for _spec in (
-    SceneSpec("hanging", HangingConfig,
-              dict(size=(1.0, 1.0), mu=0.2, gamma=0.05, eta=50.0, dt=1e-3, t_end=2.0), _hanging,
+    SceneSpec("hanging", HangingConfig, dict(size=(1.0, 1.0), mu=0.2, gamma=0.05, eta=50.0, xi=1e-5), _hanging,
               "cloth pinned at its two top corners, falling under gravity"),
     SceneSpec("curtain", CurtainConfig, _CURTAIN, _curtain,
-              "curtain on a rail gathering into folds (Figs 3-4)"),
+              "curtain drawn open along its rod, folding by itself (Figs 3-4)"),
     SceneSpec("curtain-silky", CurtainConfig, _SILKY, _curtain,
               "the curtain with mu, gamma, f scaled by 20 (Fig. 5)"),
-    SceneSpec("paper", CurtainConfig, dict(_SILKY, xi=3e-6), _curtain,
-              "the silky curtain with xi = 3e-6 (Fig. 6)"),
-    SceneSpec("flag", FlagConfig,
-              dict(size=(1.2, 0.8), mu=0.2, gamma=0.1, eta=20.0, wind=6.0, gust=4.0, frequency=1.5,
-                   wavelength=0.8, dt=1e-3, t_end=2.0), _flag,
-              "flag on a pole waving in a time-varying wind (Figs 7-8)"),
+    SceneSpec("paper", CurtainConfig, dict(_SILKY, xi=16 * _CURTAIN["xi"]), _curtain,
+              "the silky curtain with 16 times the curvature resistance (Fig. 6)"),
+    SceneSpec("flag", FlagConfig, dict(size=(1.2, 0.8), mu=0.2, gamma=0.05, eta=20.0, xi=1e-5), _flag,
+              "flag on a pole, a coil on its free side, in the wind (Figs 7-8)"),
 ):
     SCENES[_spec.name] = _spec
 
@@ -354,65 +539,49 @@ def build(cfg: SceneConfig) -> Scene:
     return SCENES[cfg.scene].builder(cfg)
 
 
-def hanging(nodes=(32, 32), **fields_) -> Scene:
+def hanging(nodes=None, **fields_) -> Scene:
     """Cloth pinned at two top corners, falling from horizontal under gravity.
 
-    1 m x 1 m, mu = 0.2 kg/m^2, gamma = 0.05 kg/(m^2 s), eta = 50 N/m, xi = 0,
-    scale 1 (real-world values, section 4). Default dt = 1e-3 s against a
-    stretching bound of 1.4e-3 s at 32 x 32 (``h sqrt(mu/(2 eta))``); gravity
-    keeps the sheet in tension, so alpha >= 0 except in small wrinkles along
-    the free hem (G11 >= 0.95 measured over 2 s), which stay bounded.
+    1 m x 1 m, mu = 0.2 kg/m^2, gamma = 0.05 kg/(m^2 s), eta = 50 N/m,
+    xi = 1e-5 N m, full tensors, scale 1 (real-world values, section 4).
     """
     return SCENES["hanging"](nodes, **fields_)
 
 
-def curtain(nodes=(32, 32), **fields_) -> Scene:
-    """The opening curtain of Figs 3-4 (see the module docstring).
+def curtain(nodes=None, **fields_) -> Scene:
+    """The opening curtain of Figs 3-4 (see the module docstring for the mechanism and the differences).
 
-    1 m wide, 1.2 m tall, mu = 0.2 kg/m^2, gamma = 0.5 kg/(m^2 s), eta = 20 N/m,
-    xi = 0 (section 5: "xi set to zero and eta reasonably high"), scale 1.
-    Push: 3 N/m^2 along y times ``sin(6 pi a1 / L1)``, tapering linearly from
-    the rail to half at the hem. Default dt = 1e-3 s against a stretching
-    bound of 2.3e-3 s at 32 x 32 (2e-3 s diverged within 20 steps once the
-    folds stretch the fibres to G11 ~ 1.8, which lowers the bound by sqrt(G)).
-    The sheet stays in tension (module docstring).
+    1 m wide, 1.2 m tall, mu = 0.2 kg/m^2, gamma = 0.2 kg/(m^2 s), eta = 20
+    N/m, xi = 1e-5 N m, full tensors, scale 1; the rod end drawn 0.6 m over
+    1.6 s; 2 s of motion at dt = 5 ms (implicit Euler).
     """
     return SCENES["curtain"](nodes, **fields_)
 
 
-def curtain_silky(nodes=(32, 32), **fields_) -> Scene:
-    """Fig. 5: the curtain with mu, gamma and the push scaled by 20 (section 3.1).
+def curtain_silky(nodes=None, **fields_) -> Scene:
+    """Fig. 5: the curtain with mu, gamma and the forces scaled by 20 (section 3.1), on 64 x 64 nodes.
 
-    mu = 4 kg/m^2, gamma = 10 kg/(m^2 s), push 60 N/m^2, eta = 100 N/m: the
-    triple (mu, gamma, f) scaled by 20 (gamma by another 1.25 for a calmer
-    drape) with eta only 5 times larger, so the sheet is relatively softer and
-    flows. The scaling raises the stretching bound (4.6e-3 s at 32 x 32), so the
-    default dt is 2e-3 s: half the steps of the plain curtain.
+    Relative to its weight the sheet is 20 times softer in stretching and in
+    bending: folds about 20^(1/4) = 2.1 times narrower than the curtain's.
     """
     return SCENES["curtain-silky"](nodes, **fields_)
 
 
-def paper(nodes=(32, 32), **fields_) -> Scene:
-    """Fig. 6: the silky curtain with curvature resistance xi = 3e-6 N m.
+def paper(nodes=None, **fields_) -> Scene:
+    """Fig. 6: the silky curtain with xi = 1.6e-4 N m (16 times), folds twice as wide.
 
-    Under the tpbf87 force model a flat sheet with B0 = 0 has no linear bending
-    stiffness (docs/design.md, "Three readings of the model"), so xi acts only at second order in the
-    fold amplitude; the paper saw the same insensitivity for xi up to 1e-3.
-    Same dt and stability margins as ``curtain-silky``.
+    The paper's xi = 3e-6 N m is a different material here (module docstring).
     """
     return SCENES["paper"](nodes, **fields_)
 
 
-def flag(nodes=(32, 32), **fields_) -> Scene:
-    """The flag of Figs 7-8: pole edge pinned, a time-varying wind.
+def flag(nodes=None, **fields_) -> Scene:
+    """The flag of Figs 7-8: pole edge pinned, coils on the free corners, wind along the flag.
 
     1.2 m x 0.8 m in the vertical x-z plane, pole along a1 = 0. mu = 0.2
-    kg/m^2, gamma = 0.1 kg/(m^2 s), eta = 20 N/m, scale 1. Wind: 6 N/m^2 along
-    +x (three times the weight, so the flag flies) plus a pressure wave
-    ``gust sin(2 pi f t - 2 pi a1 / wavelength)`` along y (4 N/m^2, 1.5 Hz,
-    0.8 m). The steady wind keeps the flag in tension (G11 between 1.01 and
-    1.36 measured over 2 s), and dt = 1e-3 s is below the stretching bound of
-    1.8e-3 s at 32 x 32 (eta = 40 with dt = 2e-3 diverged within 25 steps).
+    kg/m^2, gamma = 0.05 kg/(m^2 s), eta = 20 N/m, xi = 1e-5 N m, scale 1.
+    Coils of 30 N/m to anchors 0.1 m beyond the free corners, swinging 0.15 m
+    across the flag at 4 Hz; wind 10 m/s along the flag (c = 0.6 kg/m^3).
     """
     return SCENES["flag"](nodes, **fields_)
 

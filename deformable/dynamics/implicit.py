@@ -85,7 +85,6 @@ class Implicit:
         self.reports: list = []
         self.rejected = 0
         self.timings = {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0}
-        self._acc = None  # (step, t, a_n) for Newmark
 
     def acceleration(self, state) -> np.ndarray:
         """a = M^-1 (F - C v - grad E) at a state (flat), for starting Newmark."""
@@ -127,9 +126,7 @@ class Implicit:
             def grad(x):
                 return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x) - F
         else:
-            if self._acc is None or self._acc[0] != state.step or self._acc[1] != state.t:
-                self._acc = (state.step, state.t, self.acceleration(state))
-            an = self._acc[2]
+            an = self.acceleration(state) if state.A is None else flat(state.A)
             Man, Cvn = M @ an, C @ vn
 
             def phi(x):
@@ -142,9 +139,14 @@ class Implicit:
 
         label = f"{self.name} step {state.step + 1} (t = {t1:.6g} s, dt = {dt:.3g} s)"
         fl.t = t1
+        # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
+        # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
+        start = fl.hold(xhat, X0, t1)
+        scale = float(np.max(np.abs(grad(start)[fl.free]), initial=0.0))
+        if state.A is not None:
+            start = fl.hold(xhat + (dt**2 if self.name == "implicit-euler" else 0.5 * dt**2) * flat(state.A), X0, t1)
         try:
-            x, report = self.newton.minimise(phi, grad, fl.hold(xhat, X0, t1), cm, cc, label,
-                                             None if D is None else cc * D)
+            x, report = self.newton.minimise(phi, grad, start, cm, cc, label, None if D is None else cc * D, scale)
         except ConvergenceError as err:
             self.rejected += 1
             raise StepRejected(str(err)) from err
@@ -159,9 +161,9 @@ class Implicit:
         self.reports.append(report)
         if self.name == "implicit-euler":
             v = (x - xn) / dt
+            a = (v - vn) / dt
         else:
             a = 4 * (x - xhat) / dt**2 - an
             v = 2 * (x - xn) / dt - vn
-            self._acc = (state.step + 1, t1, a)
         n = fl.n
-        return State(t=t1, X=unflat(x, n), V=unflat(v, n), step=state.step + 1)
+        return State(t=t1, X=unflat(x, n), V=unflat(v, n), step=state.step + 1, A=unflat(a, n))

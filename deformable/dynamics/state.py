@@ -11,12 +11,18 @@ __all__ = ["State", "RunResult", "DivergenceError", "StalledError"]
 
 @dataclass(frozen=True)
 class State:
-    """A point of the trajectory: time t (s), positions X and velocities V, (ndof, 3), and the step number."""
+    """A point of the trajectory: time t (s), positions X and velocities V, (ndof, 3), and the step number.
+
+    ``A``, (ndof, 3) or None: the acceleration the implicit schemes found at this state (m/s^2); Newmark
+    steps from it and both schemes start their Newton search with it (a checkpoint keeps it, so that a
+    resumed run is the same run).
+    """
 
     t: float
     X: np.ndarray
     V: np.ndarray
     step: int = 0
+    A: np.ndarray | None = None
 
 
 class DivergenceError(RuntimeError):

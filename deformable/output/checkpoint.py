@@ -26,16 +26,17 @@ def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, d
     Parameters
     ----------
     path : target file (.npz)
-    state : deformable.State (X, V (ndof, 3), t in s, step)
+    state : deformable.State (X, V and, when known, A (ndof, 3), t in s, step)
     X0 : (ndof, 3) the constraint reference of the run (its initial positions)
     scene : scene name; config : the resolved scene config as TOML text
     backend : "fd" or "fe"; dt : time step (s); nodes : (M, N)
     """
     path = Path(path)
     tmp = path.with_name(path.stem + ".tmp.npz")
+    extra = {} if state.A is None else {"A": state.A}  # the implicit schemes' acceleration, when there is one
     np.savez(tmp, X=state.X, V=state.V, t=np.float64(state.t), step=np.int64(state.step), X0=X0,
              scene=np.str_(scene), config=np.str_(config), backend=np.str_(backend), dt=np.float64(dt),
-             nodes=np.asarray(nodes, dtype=np.int64))
+             nodes=np.asarray(nodes, dtype=np.int64), **extra)
     os.replace(tmp, path)
     return path
 
@@ -49,6 +50,7 @@ def load_checkpoint(path) -> dict:
             if missing:
                 raise ValueError(f"{str(path)!r} is not a checkpoint: missing {', '.join(missing)}")
             out = {k: data[k] for k in CHECKPOINT_KEYS}
+            out["A"] = data["A"] if "A" in data.files else None
     except (OSError, EOFError) as err:
         raise ValueError(f"cannot read checkpoint {str(path)!r}: {err}") from None
     except ValueError as err:

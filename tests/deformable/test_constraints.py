@@ -32,8 +32,10 @@ def test_bad_selections_are_named(where, message):
 
 def test_slide_axis_and_clamp_edges_are_checked():
     assert dm.Slide("top", "z").axis == 2 and dm.Slide("top", 1).axis == 1
-    with pytest.raises(ValueError, match="Slide.axis"):
-        dm.Slide("top", "w")
+    assert dm.Slide("top", ("y", "x")).axes == (0, 1)
+    for bad in ("w", ("x", "x"), ("x", "y", "z"), (), True):
+        with pytest.raises(ValueError, match="Slide.axis"):
+            dm.Slide("top", bad)
     with pytest.raises(ValueError, match="Clamp.where must name edges"):
         dm.Clamp("top-left")
     assert dm.Clamp(["left", "top"]).edges == ["left", "top"]
@@ -51,6 +53,9 @@ def test_hold_maps_pins_slides_and_clamps_through_the_backends_callbacks():
     corner, top, right = {0}, set(edge("top") - 1) | set(edge("top")), set(clamp("right"))
     fx, fy, fz = (set(f.tolist()) for f in held.fixed)
     assert fx == fz == corner | top | right and fy == corner | right
+    plane = dm.Scene(SHEET, dm.Material(), constraints=[dm.Slide("top", ("x", "y"))])
+    fx, fy, fz = (set(f.tolist()) for f in hold(plane, 2 * 20, node, edge, clamp).fixed)
+    assert fx == fy == set() and fz == top  # a plane slide holds only the third coordinate
     X0 = np.zeros((40, 3))
     X = held.prescribed(X0, 2.0)
     assert X[0].tolist() == [2.0, 0.0, 0.0] and not X[1:].any()

@@ -175,7 +175,11 @@ def prepare(args) -> Run:
         if checkpoint["dt"] != cfg.dt:
             raise _Error(f"resume file {args.resume!r} was written with dt = {checkpoint['dt']!r}, "
                          f"the scene has {cfg.dt!r}")
-        run.start = State(t=checkpoint["t"], X=X, V=V, step=checkpoint["step"])
+        A = checkpoint["A"]
+        if A is not None and A.shape != X.shape:
+            raise _Error(f"resume file {args.resume!r} holds accelerations of shape {A.shape}, the scene has "
+                         f"({model.ndof}, 3)")
+        run.start = State(t=checkpoint["t"], X=X, V=V, step=checkpoint["step"], A=A)
     else:
         X0 = model.initial_state()
         run.start = None

@@ -23,7 +23,7 @@ def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
     code, out, err = _run(["flag", "--grid", "12x10", "--steps", "30", "--every", "10", "--out", str(tmp_path)],
                           capsys)
     assert code == 0, err
-    assert "flag: finished, 30 steps to t = 0.03 s" in out and "energy" in out
+    assert "flag: finished, 30 steps to t = 0.15 s" in out and "energy" in out
     with meshio.xdmf.TimeSeriesReader(str(tmp_path / "flag.xdmf")) as reader:
         points, cells = reader.read_points_cells()
         assert points.shape == (120, 3) and cells[0].type == "quad" and len(cells[0].data) == 11 * 9
@@ -32,7 +32,7 @@ def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
             t, data, _ = reader.read_data(k)
             times.append(t)
             assert FIELDS <= set(data) and all(np.all(np.isfinite(v)) for v in data.values())
-    assert times == pytest.approx([0.0, 0.01, 0.02, 0.03], abs=1e-12)
+    assert times == pytest.approx([0.0, 0.05, 0.1, 0.15], abs=1e-12)
     assert np.abs(data["displacement"]).max() > 0 and data["speed"].max() > 0
     assert (tmp_path / "flag.toml").read_text().startswith("# resolved scene config")
 
@@ -71,9 +71,9 @@ def test_a_resumed_run_is_bit_identical(tmp_path, capsys):
 
 
 def test_a_diverging_run_stops_keeps_its_frames_and_checkpoints_the_last_good_state(tmp_path, capsys):
-    # dt far beyond the stretching bound h sqrt(mu / (2 eta G)) (docs/design.md, "Findings")
-    code, out, err = _run(["hanging", "--grid", "12x12", "--dt", "0.02", "--steps", "200", "--every", "1",
-                           "--out", str(tmp_path)], capsys)
+    # the paper's force at a dt far beyond its stretching bound h sqrt(mu / (2 eta G)) (docs/design.md, "Findings")
+    code, out, err = _run(["hanging", "--force-model", "tpbf87", "--grid", "12x12", "--dt", "0.02", "--steps", "200",
+                           "--every", "1", "--out", str(tmp_path)], capsys)
     assert code == 1
     assert "diverged at step" in err and len(err.strip().splitlines()) == 1
     ck = load_checkpoint(tmp_path / "hanging-diverged.npz")
@@ -86,8 +86,8 @@ def test_a_diverging_run_stops_keeps_its_frames_and_checkpoints_the_last_good_st
 
 
 def test_the_run_api_reports_divergence_with_the_last_good_state(tmp_path):
-    args = build_parser().parse_args(["run", "hanging", "--grid", "12x12", "--dt", "0.02", "--steps", "200",
-                                      "--out", str(tmp_path)])
+    args = build_parser().parse_args(["run", "hanging", "--force-model", "tpbf87", "--grid", "12x12", "--dt", "0.02",
+                                      "--steps", "200", "--out", str(tmp_path)])
     result, writer, energy, written = simulate(prepare(args))
     assert result.status == "diverged" and np.all(np.isfinite(result.state.X))
     assert written[-1].name == "hanging-diverged.npz" and writer.frames >= 1
@@ -122,7 +122,7 @@ def _bad_cases(tmp_path, ck):
         "unknown field": (["flag", "--field", "colour"], "unknown field 'colour'"),
         "resume other scene": (["curtain", "--resume", str(ck)], "holds scene 'flag', not 'curtain'"),
         "resume other grid": (["flag", "--grid", "12x12", "--resume", str(ck)], "has nodes = (10, 10)"),
-        "resume other dt": (["flag", "--dt", "5e-4", "--resume", str(ck)], "has dt = 0.001"),
+        "resume other dt": (["flag", "--dt", "5e-4", "--resume", str(ck)], "has dt = 0.005"),
         "resume not a checkpoint": (["flag", "--resume", str(junk)], "cannot read checkpoint"),
         "resume missing": (["flag", "--resume", str(tmp_path / "none.npz")], "cannot read checkpoint"),
         "resume past the end": (["flag", "--steps", "1", "--resume", str(ck)], "nothing to do"),
@@ -145,11 +145,11 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, tmp_path, capsys,
     assert not out_dir.exists() or not any(out_dir.iterdir())
 
 
-def test_force_model_option_runs_the_variational_model(tmp_path, capsys):
-    code, out, err = _run(["flag", "--force-model", "variational", "--grid", "6x6", "--steps", "3",
+def test_force_model_option_runs_the_papers_force(tmp_path, capsys):
+    code, out, err = _run(["flag", "--force-model", "tpbf87", "--grid", "6x6", "--steps", "3",
                            "--out", str(tmp_path)], capsys)
     assert code == 0, err
-    assert 'force_model = "variational"' in next(tmp_path.glob("*.toml")).read_text()
+    assert 'force_model = "tpbf87"' in next(tmp_path.glob("*.toml")).read_text()
 
 
 def test_unknown_force_model_is_one_line(tmp_path, capsys):
@@ -170,9 +170,9 @@ def test_every_scene_runs_on_the_fe_backend_at_its_own_stable_step(scene, tmp_pa
     assert cfg.dt <= 0.5 * make_model(scenes.build(cfg), "fe").stable_step()
 
 
-def test_the_fe_backend_picks_its_own_step_where_the_scenes_is_too_long(tmp_path, capsys):
-    code, out, err = _run(["hanging", "--backend", "fe", "--grid", "16x16", "--steps", "5", "--out", str(tmp_path)],
-                          capsys)
+def test_under_the_papers_force_a_backend_picks_its_own_step_where_the_scenes_is_too_long(tmp_path, capsys):
+    code, out, err = _run(["hanging", "--force-model", "tpbf87", "--backend", "fe", "--grid", "16x16", "--steps", "5",
+                           "--out", str(tmp_path)], capsys)
     assert code == 0, err
     cfg = scenes.read_toml(tmp_path / "hanging.toml")
     bound = make_model(scenes.build(cfg), "fe").stable_step()

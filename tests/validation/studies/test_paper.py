@@ -10,9 +10,8 @@ The whole sweep runs under ``slow`` (it is not in the default ``deformable valid
 
 import pytest
 
-from deformable import scenes
 from validation.studies.paper import STUDY, classify, predictions, run_case, spectrum, trajectory_difference
-from validation.studies.paper.cases import FROZEN, SCALE, VISIBLE, XI_BASE, Case, fields
+from validation.studies.paper.cases import FROZEN, SCALE, VISIBLE, XI_BASE, Case, fields, paper_config
 from validation.studies.paper.claims import Claim
 
 from ...conftest import checks_pass
@@ -20,7 +19,7 @@ from ...conftest import checks_pass
 
 @pytest.mark.parametrize("backend, nodes", [("fd", 8), ("fe", 5)])
 def test_scaling_mu_gamma_f_equals_dividing_eta_xi(backend, nodes):
-    base = scenes.config("curtain")
+    base = paper_config("curtain")
     a, T = SCALE, 0.2
 
     def run(**kw):
@@ -55,7 +54,7 @@ def test_frozen_alpha_has_residual_energy_eta_control_none(backend):
 
 def test_dt_above_the_stretching_bound_blows_up_below_does_not():
     nodes = 8
-    cfg = scenes.config("curtain", nodes=(nodes, nodes))
+    cfg = paper_config("curtain", nodes=(nodes, nodes))
     spec = spectrum("fd", cfg.size, nodes)
     dt_c = predictions(spec, cfg.mu, cfg.eta, cfg.dt, 1.0)["dt_c"]
     h = min(cfg.size) / (nodes - 1)

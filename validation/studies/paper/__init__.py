@@ -32,14 +32,13 @@ from __future__ import annotations
 import logging
 import time
 
-from deformable import scenes
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Levels, Study, Table
 
 from . import micro, renders, scaling, sensitivity, stability
 from .analysis import classify, predictions, trajectory_difference
 from .cases import (FROZEN, HANGING, MAP_SCENES, RENDERS, RUNAWAY_G, SCALE, SETTINGS, TIME_SCALE, TRIPLES, VISIBLE,
-                    XI_BASE, Case, fields, run_case, spectrum)
+                    XI_BASE, Case, fields, paper_config, run_case, spectrum)
 
 __all__ = ["STUDY", "Case", "run_case", "SETTINGS", "spectrum", "predictions", "trajectory_difference", "classify",
            "RUNAWAY_G"]
@@ -53,7 +52,7 @@ def _cases(s: dict) -> dict:
     all_grids = {"fd": s["fd_grids"], "fe": s["fe_grids"]}
     c: dict = {}
     # claim 1: scaling, on the curtain
-    base = scenes.config("curtain")
+    base = paper_config("curtain")
     for b in BACKENDS:
         n, T = grids[b], s["t_short"]
         mk = lambda **kw: Case("run", "curtain", b, n, fields(**{"xi": XI_BASE, **kw}), t_end=T, every=10)  # noqa: E731
@@ -75,7 +74,7 @@ def _cases(s: dict) -> dict:
             c[("frozen", b, v)] = Case("frozen", "", b, grids[b], tag=v, t_end=FROZEN["t_end"], dt=FROZEN["dt"])
     # claim 3: (eta, xi) maps at the base grid; xi sweeps on every grid; (dt, h) maps
     for sc in MAP_SCENES:
-        cfg = scenes.config(sc)
+        cfg = paper_config(sc)
         for b in BACKENDS:
             for eta in s["etas"]:
                 for xi in s["xis"]:
@@ -91,7 +90,7 @@ def _cases(s: dict) -> dict:
                                                    t_end=s["t_map"])
     # claim 4: sensitivity to xi
     for sc in ("curtain", "curtain-silky"):
-        dt = scenes.config(sc).dt
+        dt = paper_config(sc).dt
         for b in BACKENDS:
             for xi in s["sens_xis"]:
                 c[("sens", sc, b, xi)] = Case("run", sc, b, grids[b], fields(xi=xi), t_end=s["t_sens"],

@@ -32,13 +32,12 @@ import math
 
 import numpy as np
 
-from deformable import scenes
 from deformable.elasticity import stretching_step
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 
 from .analysis import classify, predictions
-from .cases import MAP_SCENES
+from .cases import MAP_SCENES, paper_config
 from .claims import Claim, checks_of
 from .pictures import map_figure
 
@@ -50,7 +49,7 @@ def measure(res, R, s) -> list[Claim]:
     eta_panels, dt_panels, xi_rows, map_rows, dt_rows = [], [], [], [], []
     xi_checks = []
     for sc in MAP_SCENES:
-        cfg = scenes.config(sc)
+        cfg = paper_config(sc)
         for b in BACKENDS:
             n = grids[b]
             # reference: xi = 0 at the scene's eta and dt on each grid
