@@ -27,9 +27,10 @@ are the Gauss equation, the normal parts the Mainardi-Codazzi equations:
 
 Derivatives are central differences (``numpy.gradient``, second order, also
 at the edges), so on exact fields sampled on a grid of spacing h every
-residual is O(h^2). Where both compared vectors vanish (a plane, a cylinder)
-the ratio and the cosine are undefined: those points are *guarded*, counted
-and left out of the statistics.
+residual is O(h^2). Where a compared vector vanishes (everywhere on a plane
+or a cylinder; where an incompatible pair has u != 0 = v) the ratio and the
+cosine are undefined: those points are *guarded* and tested by the residual
+|u - v| instead, so that no reported number is NaN or infinite.
 
 A scene can be checked before a run (and one with rest-tensor overrides is
 checked when it is made): :func:`check_rest_state` evaluates a Scene's G0, B0 on
@@ -48,7 +49,7 @@ import numpy as np
 from . import tensors
 from .sheet import as_surface
 
-__all__ = ["Compatibility", "check_compatibility", "brioschi", "christoffel", "third_derivatives",
+__all__ = ["Compatibility", "Comparison", "check_compatibility", "brioschi", "christoffel", "third_derivatives",
            "rest_tensors", "check_rest_state", "warn_if_incompatible", "IncompatibleRestState"]
 
 log = logging.getLogger(__name__)
@@ -118,54 +119,91 @@ def _frame_dot(a: np.ndarray, b: np.ndarray, G: np.ndarray) -> np.ndarray:
     return np.einsum("kxy,klxy,lxy->xy", a[:2], G, b[:2]) + a[2] * b[2]
 
 
+@dataclass(frozen=True)
+class Comparison:
+    """The paper's comparison of two vectors of eq. (10), u against v, over the checked points.
+
+    Attributes
+    ----------
+    points : int
+        Points checked.
+    resolved : int
+        Points where both |u| and |v| exceed the guard: there the ratio |u| / |v| and the cosine of the
+        angle between u and v are defined and are the test.
+    ratio, cosine : (worst, median) or None
+        Over the resolved points (worst: farthest from 1, smallest); None when no point is resolved.
+    residual : float
+        max |u - v| over the other, guarded, points, relative to the vectors' scale (0 when none is
+        guarded): where a vector vanishes the ratio and the cosine are undefined and the residual is the test.
+    passed : bool
+        |ratio - 1| <= rtol and cosine >= 1 - rtol at every resolved point, residual <= rtol.
+    """
+
+    points: int
+    resolved: int
+    ratio: tuple | None
+    cosine: tuple | None
+    residual: float
+    passed: bool
+
+    def describe(self) -> str:
+        parts = []
+        if self.ratio is not None:
+            parts.append(f"ratio {self.ratio[0]:.4g} (median {self.ratio[1]:.4g}), cosine {self.cosine[0]:.4g} "
+                         f"(median {self.cosine[1]:.4g}) at {self.resolved} of {self.points} points")
+        if self.resolved < self.points:
+            parts.append(f"residual {self.residual:.3g} at the {self.points - self.resolved} guarded points")
+        return "; ".join(parts)
+
+
 @dataclass
 class Compatibility:
     """Outcome of :func:`check_compatibility` (all maxima over the checked points).
 
     Attributes
     ----------
-    gauss : float
-        max |K_Brioschi - det B / det G| (1/length^2).
-    codazzi : (float, float)
-        max |residual| of the two Mainardi-Codazzi equations (1/length^2 per parameter unit).
-    gauss_relative, mismatch_relative : float
-        gauss over the curvature scale max(|K|, |B|^2/|G|); max |u - v| (frame norm) over the largest
-        compared vector. Zero for a compatible pair up to discretisation error.
-    ratio, cosine : dict
-        For each comparison "(r_11)_2 vs (r_12)_1" and "(r_22)_1 vs (r_12)_2": the worst (farthest from 1)
-        ratio |u|/|v| and smallest cosine of the angle over the points that are not guarded, and the
-        median of each.
-    guarded : float
-        Fraction of points where both compared vectors vanish (ratio and cosine undefined).
+    comparisons : dict
+        The paper's two comparisons, "(r_11)_2 vs (r_12)_1" and "(r_22)_1 vs (r_12)_2", each a
+        :class:`Comparison`: ratio and cosine where both vectors are resolved, the residual elsewhere.
     compatible : bool
-        gauss_relative and mismatch_relative both at most ``rtol``.
+        Both comparisons pass (the paper's test, guarded).
+    gauss : float
+        max |K_Brioschi - det B / det G| (1/length^2), the Gauss equation alone (reported).
+    codazzi : (float, float)
+        max |residual| of the two Mainardi-Codazzi equations (1/length^2 per parameter unit, reported).
+    gauss_relative, mismatch_relative : float
+        gauss over the curvature scale max(|K|, |B|^2/|G|); max |u - v| (frame norm) over the vectors'
+        scale at all points. Zero for a compatible pair up to discretisation error.
+    guarded : float
+        Fraction of points where a compared vector is below the guard (ratio and cosine undefined).
     fields : dict
         Residual fields (M', N') over the checked points: "gauss", "codazzi1", "codazzi2".
     """
 
+    comparisons: dict
+    compatible: bool
     gauss: float
     codazzi: tuple[float, float]
     gauss_relative: float
     mismatch_relative: float
-    ratio: dict
-    cosine: dict
     guarded: float
-    compatible: bool
     rtol: float
     fields: dict = field(default_factory=dict, repr=False)
 
     def summary(self) -> str:
         """One line for logs and warnings."""
-        worst_r = max((abs(v["worst"] - 1) for v in self.ratio.values() if not np.isnan(v["worst"])), default=0.0)
-        worst_c = min((v["worst"] for v in self.cosine.values() if not np.isnan(v["worst"])), default=1.0)
-        return (f"{'compatible' if self.compatible else 'INCOMPATIBLE'}: Gauss residual {self.gauss:.3g} "
-                f"(relative {self.gauss_relative:.3g}), Codazzi residuals {self.codazzi[0]:.3g}, "
-                f"{self.codazzi[1]:.3g}; vector mismatch {self.mismatch_relative:.3g} (tolerance {self.rtol:g}); "
-                f"worst |ratio - 1| {worst_r:.3g}, worst cosine {worst_c:.3g}")
+        parts = "; ".join(f"{name}: {c.describe()}" for name, c in self.comparisons.items())
+        return (f"{'compatible' if self.compatible else 'INCOMPATIBLE'} (tolerance {self.rtol:g}): {parts}; "
+                f"Gauss residual {self.gauss:.3g}, Codazzi residuals {self.codazzi[0]:.3g}, {self.codazzi[1]:.3g}")
 
 
 def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: float = 0.05) -> Compatibility:
     """The paper's compatibility test (eq. 10) on fields G, B sampled on a uniform grid.
+
+    At every point the paper compares u = (r_11)_2 with v = (r_12)_1, and u' = (r_22)_1 with
+    v' = (r_12)_2, "through the ratio of its magnitudes and the cosine of its angles (both numbers must
+    be near to one)". Where a compared vector (nearly) vanishes, on a plane or a cylinder everywhere,
+    the ratio and the cosine are undefined; there the test is the residual |u - v| (guarded points).
 
     Parameters
     ----------
@@ -175,14 +213,14 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     h : float or (h1, h2)
         Grid spacings (parameter units).
     margin : int
-        Rows/columns at each edge left out of the maxima. The default 2 leaves out the rows where
-        the second derivatives of G (differences of one-sided differences) are only first order.
+        Rows/columns at each edge left out. The default 2 leaves out the rows where the second
+        derivatives of G (differences of one-sided differences) are only first order.
     rtol : float
-        Tolerance of the relative residuals for ``compatible``.
+        Tolerance: |ratio - 1| <= rtol, cosine >= 1 - rtol, guarded residual <= rtol.
     guard : float
-        Points where both compared vectors are below ``guard`` times their scale (the largest of them,
-        and at least max |B|^2 / |G|^(1/2), Frobenius norms) are guarded: there the ratio and the
-        cosine measure discretisation noise, not geometry.
+        A point is guarded for a comparison where a compared vector is at most ``guard`` times their
+        scale (the largest of them, and at least max |B|^2 / |G|^(1/2), Frobenius norms): there the
+        ratio and the cosine would measure discretisation noise, not geometry.
 
     Returns
     -------
@@ -191,6 +229,8 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     G, B = np.asarray(G, float), np.asarray(B, float)
     if G.shape != B.shape or G.ndim != 4 or G.shape[:2] != (2, 2) or min(G.shape[2:]) < 5:
         raise ValueError(f"G and B must be (2, 2, M, N) fields with M, N >= 5, got {G.shape} and {B.shape}")
+    if not (np.all(np.isfinite(G)) and np.all(np.isfinite(B))):
+        raise ValueError("G and B must be finite")
     h = (float(h), float(h)) if np.ndim(h) == 0 else tuple(float(v) for v in h)
     if np.any(tensors.det2(G) <= 0) or np.any(G[0, 0] <= 0):
         raise ValueError("G must be positive definite at every point (G11 > 0, det G > 0)")
@@ -219,33 +259,32 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     floor = float((Bn**2 / np.sqrt(Gn)).max())
     scale = max(max(float(a.max()), float(b.max())) for a, b in norms.values())
     scale = max(scale, floor)
-    ratio, cosine, mismatch, guarded = {}, {}, 0.0, np.zeros(gauss.shape, bool)
+    comparisons, mismatch, guarded = {}, 0.0, np.zeros(gauss.shape, bool)
     for k, (u, v) in pairs.items():
         nu, nv = norms[k]
-        diff = _frame_norm(u - v, G)[inner]
-        mismatch = max(mismatch, float(diff.max()) / scale if scale > 0 else 0.0)
-        small = (nu <= guard * scale) & (nv <= guard * scale) if scale > 0 else np.ones(nu.shape, bool)
-        guarded |= small
-        ok = ~small
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = (nu / nv)[ok]
-            c = (_frame_dot(u, v, G)[inner] / (nu * nv))[ok]
-        c = np.where(np.isfinite(c), c, -np.inf)  # one vector vanishes, the other not: no angle, worst case
-        if r.size:
-            far = np.argmax(np.abs(np.log(np.where(r > 0, r, 1e-300))))
-            ratio[k] = {"worst": float(r[far]), "median": float(np.median(r))}
-            cosine[k] = {"worst": float(c.min()), "median": float(np.median(c))}
-        else:
-            ratio[k] = {"worst": np.nan, "median": np.nan}
-            cosine[k] = {"worst": np.nan, "median": np.nan}
+        diff = _frame_norm(u - v, G)[inner] / scale if scale > 0 else np.zeros(nu.shape)
+        mismatch = max(mismatch, float(diff.max()))
+        ok = (nu > guard * scale) & (nv > guard * scale) if scale > 0 else np.zeros(nu.shape, bool)
+        guarded |= ~ok
+        residual = float(diff[~ok].max()) if (~ok).any() else 0.0
+        ratio = cosine = None
+        passed = residual <= rtol
+        if ok.any():
+            r = (nu / np.where(ok, nv, 1.0))[ok]
+            c = (_frame_dot(u, v, G)[inner] / np.where(ok, nu * nv, 1.0))[ok]
+            far = int(np.argmax(np.abs(np.log(r))))
+            ratio = (float(r[far]), float(np.median(r)))
+            cosine = (float(c.min()), float(np.median(c)))
+            passed = passed and bool(np.all(np.abs(r - 1) <= rtol) and np.all(c >= 1 - rtol))
+        comparisons[k] = Comparison(points=int(nu.size), resolved=int(ok.sum()), ratio=ratio, cosine=cosine,
+                                    residual=residual, passed=passed)
     kscale = max(float(np.abs(K_B[inner]).max()), float(np.abs(K_G[inner]).max()), float((Bn**2 / Gn).max()))
     gauss_max = float(np.abs(gauss).max())
-    gauss_rel = gauss_max / kscale if kscale > 0 else 0.0
     out = Compatibility(
-        gauss=gauss_max, codazzi=(float(np.abs(c1[inner]).max()), float(np.abs(c2[inner]).max())),
-        gauss_relative=gauss_rel, mismatch_relative=mismatch, ratio=ratio, cosine=cosine,
-        guarded=float(guarded.mean()), compatible=bool(gauss_rel <= rtol and mismatch <= rtol), rtol=rtol,
-        fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner]},
+        comparisons=comparisons, compatible=all(c.passed for c in comparisons.values()), gauss=gauss_max,
+        codazzi=(float(np.abs(c1[inner]).max()), float(np.abs(c2[inner]).max())),
+        gauss_relative=gauss_max / kscale if kscale > 0 else 0.0, mismatch_relative=mismatch,
+        guarded=float(guarded.mean()), rtol=rtol, fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner]},
     )
     log.debug("compatibility: %s", out.summary())
     return out

@@ -254,6 +254,11 @@ class SceneConfig:
         The rest metric G0 = diag(G0_11, G0_22) (dimensionless); (1, 1) is the
         flat rest shape itself. A value below 1 prestresses the sheet: it is
         in tension until its fibres shrink to sqrt(G0_ii) of their length.
+    rest_curvature : (B0_11, B0_22)
+        The rest curvature B0 = diag(B0_11, B0_22) (1/m); (0, 0) is the flat
+        rest shape. (1 / R, 0) is a cylinder of radius R along a2, a sheet that
+        curls back into it; both non-zero on a flat metric is no surface at
+        all (eq. (10): ``deformable check`` says so, and the Scene warns).
     """
 
     scene: str
@@ -270,6 +275,7 @@ class SceneConfig:
     t_end: float = 2.0
     force_model: str = "variational"
     rest_metric: tuple = (1.0, 1.0)
+    rest_curvature: tuple = (0.0, 0.0)
     #: fields that must be positive, and non-negative (subclasses add theirs)
     POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
     NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi")
@@ -283,12 +289,13 @@ class SceneConfig:
             elif f.name == "force_model":
                 if value not in FORCE_MODELS:
                     raise ValueError(f"scene field force_model must be one of {FORCE_MODELS}, got {value!r}")
-            elif f.name in ("size", "nodes", "rest_metric"):
+            elif f.name in ("size", "nodes", "rest_metric", "rest_curvature"):
                 kind = int if f.name == "nodes" else float
                 try:
                     pair = tuple(value)
                     ok = len(pair) == 2 and all(
-                        not isinstance(v, bool) and isinstance(v, (int, float)) and kind(v) == v for v in pair
+                        not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v) and kind(v) == v
+                        for v in pair
                     )
                 except TypeError:
                     ok = False
@@ -318,9 +325,10 @@ class SceneConfig:
             raise ValueError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
 
     def scene_kwargs(self) -> dict:
-        """Keyword arguments of Scene common to every scene (force model, rest metric, name)."""
+        """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
         G0 = None if self.rest_metric == (1.0, 1.0) else np.diag(self.rest_metric)
-        return dict(force_model=self.force_model, rest_metric=G0, name=self.scene)
+        B0 = None if self.rest_curvature == (0.0, 0.0) else np.diag(self.rest_curvature)
+        return dict(force_model=self.force_model, rest_metric=G0, rest_curvature=B0, name=self.scene)
 
     def replace(self, **changes) -> SceneConfig:
         """A copy with some fields changed; an unknown field is a ValueError naming it."""

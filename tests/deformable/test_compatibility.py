@@ -42,8 +42,9 @@ def test_exact_generic_fields_are_compatible_and_residuals_converge():
     for label, e in (("Gauss", gauss), ("Codazzi", codazzi)):
         p = fit_order(hs, e)
         assert 1.7 <= p <= 2.3, f"{label} residual order {p:.2f}, theory 2"
-    for comparison in c.ratio:
-        assert abs(c.ratio[comparison]["worst"] - 1) < 0.01 and c.cosine[comparison]["worst"] > 0.99
+    for comparison in c.comparisons.values():
+        assert comparison.resolved > 0.5 * comparison.points and comparison.passed
+        assert abs(comparison.ratio[0] - 1) < 0.01 and comparison.cosine[0] > 0.99
 
 
 def test_incompatible_rest_state_is_flagged_with_gauss_residual_a_quarter():
@@ -53,6 +54,10 @@ def test_incompatible_rest_state_is_flagged_with_gauss_residual_a_quarter():
     assert not c.compatible
     assert abs(c.gauss - 0.25) < 1e-14
     assert c.codazzi == (0.0, 0.0)
+    # (r_11)_2 = -0.25 r_2 against (r_12)_1 = 0: no ratio, no angle; the guarded residual fails the test
+    first = c.comparisons["(r_11)_2 vs (r_12)_1"]
+    assert first.resolved == 0 and first.ratio is None and first.residual > 0.5 and not first.passed
+    assert "nan" not in c.summary() and "inf" not in c.summary()
     with pytest.warns(IncompatibleRestState, match="not the metric and curvature of any surface"):
         warn_if_incompatible(scene)
 
@@ -64,10 +69,15 @@ def test_compatible_rest_shape_does_not_warn():
         assert warn_if_incompatible(scene).compatible
 
 
-def test_plane_is_guarded_not_divided_by_zero():
-    G, B, h, _ = exact_fields("plane", 9)
+@pytest.mark.parametrize("name", ["plane", "cylinder"])
+def test_plane_and_cylinder_are_guarded_and_tested_by_their_residual(name):
+    G, B, h, _ = exact_fields(name, 17)
     c = check_compatibility(G, B, h)
-    assert c.compatible and c.guarded == 1.0 and c.gauss == 0.0
+    assert c.compatible and c.guarded == 1.0, c.summary()
+    for comparison in c.comparisons.values():
+        assert comparison.ratio is None and comparison.cosine is None and comparison.resolved == 0
+        assert 0 <= comparison.residual <= 0.05
+    assert "nan" not in c.summary() and "inf" not in c.summary()
 
 
 def test_bad_fields_are_clear_errors():

@@ -87,6 +87,14 @@ def test_the_curtains_ripple_is_the_same_function_on_both_backends_and_has_its_r
     np.testing.assert_allclose(noise.r1(a1, a2), (noise.r(a1 + e, a2) - noise.r(a1 - e, a2)) / (2 * e), atol=1e-8)
 
 
+def test_a_rest_curvature_curls_the_sheet_into_its_cylinder():
+    scene = scenes.hanging(nodes=(9, 9), rest_curvature=(2.0, 0.0))
+    np.testing.assert_array_equal(scene.rest_curvature, np.diag([2.0, 0.0]))
+    model = FDModel(scene)
+    e = model.energy(model.initial_state())  # flat: bent away from its rest curvature
+    assert e.bending > 0 and e.stretching == 0
+
+
 def test_equivalent_weights_match_the_linearised_stiffness_and_invert():
     assert scenes.equivalent_weights(20.0, 1e-5) == (5.0, 5e-6)
     assert scenes.equivalent_weights(*scenes.equivalent_weights(20.0, 1e-5), "variational", "tpbf87") == (20.0, 1e-5)
@@ -123,6 +131,8 @@ def test_toml_overrides_a_named_scene_and_round_trips(tmp_path):
     ('scene = "flag"\nnodes = [2.5, 3]\n', "nodes must be two ints"),
     ('scene = "flag"\ndt = 0.0\n', "dt must be positive"),
     ('scene = "flag"\nshear = 1.5\n', "shear must lie in"),
+    ('scene = "flag"\nrest_curvature = [1.0]\n', "rest_curvature must be two floats"),
+    ('scene = "flag"\nrest_curvature = [inf, 0.0]\n', "rest_curvature must be two floats"),
     ('scene = "curtain"\nseed = 1.5\n', "seed must be an integer"),
     ('scene = "curtain"\ngather = 1.0\n', "gather must lie in"),
     ('scene = "flag"\ncoil = -1.0\n', "coil must be non-negative"),

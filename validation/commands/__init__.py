@@ -1,4 +1,4 @@
-"""The ``deformable`` command line: ``run``, ``validate`` and ``bench``.
+"""The ``deformable`` command line: ``run``, ``check``, ``validate`` and ``bench``.
 
 Each subcommand lives in its own module, which provides ``configure(parser)``
 and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
@@ -20,6 +20,7 @@ __all__ = ["main", "CommandError"]
 # subcommand -> (module, one-line help)
 COMMANDS = {
     "run": ("validation.commands.run", "run a scene and write an XDMF time series (ParaView)"),
+    "check": ("validation.commands.check", "check that a scene's rest state is a surface (section 3.2, eq. (10))"),
     "validate": ("validation.commands.validate", "run validation studies and write reports"),
     "bench": ("validation.commands.bench", "time the time step of each backend"),
 }

@@ -45,7 +45,7 @@ from deformable.scene import FORCE_MODELS
 from validation.harness.backends import BACKENDS, make_model
 from validation.harness.report import writable_folder
 
-__all__ = ["configure", "execute", "parse_grid", "Run", "prepare", "simulate"]
+__all__ = ["configure", "execute", "parse_grid", "scene_config", "Run", "prepare", "simulate"]
 
 log = logging.getLogger(__name__)
 
@@ -86,6 +86,13 @@ def parse_grid(text: str) -> tuple[int, int]:
     if min(M, N) < 3:
         raise _Error(f"grid {text!r} needs at least 3 nodes a side")
     return M, N
+
+
+def scene_config(scene: str, **overrides) -> scenes.SceneConfig:
+    """The config of a scene name or a TOML scene file (``*.toml``), with overrides; ValueError naming what is wrong."""
+    if scene.endswith(".toml"):
+        return scenes.read_toml(scene, **overrides)
+    return scenes.config(scene, **overrides)
 
 
 def _positive(name: str, text, kind=float):
@@ -137,10 +144,7 @@ def prepare(args) -> Run:
     if args.resume is not None:
         checkpoint = load_checkpoint(args.resume)
         base = scenes.read_toml_text(checkpoint["config"], source=args.resume)
-        if args.scene.endswith(".toml"):
-            given = scenes.read_toml(args.scene)
-        else:
-            given = scenes.config(args.scene)
+        given = scene_config(args.scene)
         if given.scene != base.scene:
             raise _Error(f"resume file {args.resume!r} holds scene {base.scene!r}, not {given.scene!r}")
         if checkpoint["backend"] != backend:
@@ -151,10 +155,8 @@ def prepare(args) -> Run:
                 raise _Error(f"resume file {args.resume!r} has {key} = {getattr(base, key)!r}, "
                              f"but {value!r} was asked for")
         cfg = base
-    elif args.scene.endswith(".toml"):
-        cfg = scenes.read_toml(args.scene, **overrides)
     else:
-        cfg = scenes.config(args.scene, **overrides)
+        cfg = scene_config(args.scene, **overrides)
     scene = scenes.build(cfg)
     model = make_model(scene, backend)
     # the scenes' default dt is the FD one; a backend with a tighter stretching bound gets its own.
