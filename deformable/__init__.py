@@ -19,7 +19,7 @@ from .equilibrium import equilibrium
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .material import Material
 from .newton import ConvergenceError
-from .scene import FORCE_MODELS, Scene
+from .scene import FORCE_MODELS, IllPosedScene, Scene
 from .sheet import Sheet, Surface, as_surface
 from .tensors import curvature, gaussian_curvature, metric, normal
 
@@ -28,7 +28,7 @@ __version__ = "0.1.0"
 __all__ = [
     "IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy", "Sample",
     "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
-    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
+    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "FORCE_MODELS", "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
 ]

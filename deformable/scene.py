@@ -14,6 +14,7 @@ Force models (docs/design.md, "The continuous model"):
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -24,10 +25,25 @@ from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wind
 from .material import Material
 from .sheet import Sheet
 
-__all__ = ["Scene", "FORCE_MODELS"]
+__all__ = ["Scene", "FORCE_MODELS", "IllPosedScene"]
 
 FORCE_MODELS = ("tpbf87", "frozen", "variational")
 log = logging.getLogger(__name__)
+
+
+class IllPosedScene(UserWarning):
+    """The scene's settings leave deformations that cost no energy (shear or twist of the variational model)."""
+
+
+def _free_modes(material) -> list[str]:
+    """The energy-consistent model's deformations that a material leaves free: "shear" (eta_12 = 0), "twist" (xi_12 = 0)."""
+    free = []
+    for name, mode in (("eta", "shear"), ("xi", "twist")):
+        w = np.asarray(getattr(material, name), float)
+        w = w * np.eye(2) if w.ndim == 0 else w  # a scalar is eta_11 = eta_22, eta_12 = 0
+        if np.any(w[0, 0] != 0) and not np.any(w[0, 1]):
+            free.append(f"{mode} ({name}_12 = 0)")
+    return free
 
 
 def _tensor_override(name: str, value):
@@ -64,6 +80,10 @@ class Scene:
     IncompatibleRestState
         When rest_metric / rest_curvature override the rest shape with a pair
         that is not the metric and curvature of any surface (eq. 10, section 3.2).
+    IllPosedScene
+        When the variational model is given weights without eta_12 (or xi_12
+        with bending): shear (twist) then costs nothing, a compressed sheet
+        shears in its own plane and a static problem has no unique solution.
     """
 
     sheet: Sheet
@@ -100,6 +120,13 @@ class Scene:
         object.__setattr__(self, "constraints", constraints)
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
+        free = _free_modes(self.material) if self.force_model == "variational" else []
+        if free:
+            warnings.warn(f"scene {self.name!r}: the energy-consistent model leaves {' and '.join(free)} free: "
+                          "those deformations cost no energy, a compressed sheet shears in its own plane and a "
+                          "static problem has no unique solution; give full weight tensors, e.g. "
+                          "eta = [[eta, eta], [eta, eta]] (and the same for xi), the isotropic sheet with Poisson "
+                          "ratio 0 (shear = 1 in a scene file)", IllPosedScene, stacklevel=3)
         if self.rest_metric is not None or self.rest_curvature is not None:
             # a rest shape alone is always compatible; overrides may not be (eq. 10)
             warn_if_incompatible(self, stacklevel=4)  # the caller of Scene(...)

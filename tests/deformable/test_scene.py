@@ -1,5 +1,7 @@
 """The scene (deformable.scene): validation and the rest tensors G0, B0."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -38,3 +40,21 @@ def test_with_nodes_keeps_everything_but_the_grid():
     assert finer.sheet.nodes == (9, 7) and finer.sheet.size == (2.0, 1.0)
     assert (finer.material, finer.forces, finer.constraints, finer.name) == (scene.material, scene.forces,
                                                                              scene.constraints, "mine")
+
+
+@pytest.mark.parametrize("eta, xi, free", [
+    (1.0, 0.0, ["shear"]), (1.0, 0.1, ["shear", "twist"]), ([[1.0, 1.0], [1.0, 1.0]], 0.1, ["twist"]),
+])
+def test_the_variational_model_without_off_diagonal_weights_warns_what_is_free(eta, xi, free):
+    with pytest.warns(dm.IllPosedScene) as caught:
+        dm.Scene(dm.Sheet(nodes=(4, 4)), dm.Material(eta=eta, xi=xi), force_model="variational")
+    message = str(caught[0].message)
+    assert all(f in message for f in free) and "full weight tensors" in message
+
+
+def test_full_tensors_and_the_papers_force_do_not_warn():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", dm.IllPosedScene)
+        dm.Scene(dm.Sheet(nodes=(4, 4)), dm.Material(eta=[[1.0, 1.0], [1.0, 1.0]], xi=[[0.1, 0.1], [0.1, 0.1]]),
+                 force_model="variational")
+        dm.Scene(dm.Sheet(nodes=(4, 4)), dm.Material(eta=1.0, xi=0.1), force_model="tpbf87")

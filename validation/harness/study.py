@@ -173,8 +173,7 @@ class StudyResult:
             "checks": [asdict(c) for c in self.checks],
             "tables": [{"name": t.name, "title": t.title, "columns": list(t.columns), "rows": [list(r) for r in t.rows]}
                        for t in self.tables],
-            "findings": list(self.findings), "data": self.data, "wall_time": self.wall_time,
-            "passed": self.passed, "failed": self.failed,
+            "findings": list(self.findings), "data": self.data, "passed": self.passed, "failed": self.failed,
         }
 
 

@@ -42,6 +42,31 @@ def test_files_exist_tables_parse_and_counts_are_right(tmp_path):
     assert "[demo](demo/summary.md)" in index and "2 checks passed, 1 failed" in index
 
 
+def test_csvs_are_numeric_and_a_rerun_with_the_same_results_changes_only_the_timings(tmp_path):
+    import numpy as np
+    import pandas as pd
+
+    res = synthetic()
+    res.tables.append(Table("numpy", "NumPy scalars", ("n", "x", "flag"),
+                            [(np.int64(3), np.float64(0.125), np.bool_(True)), (4, np.float32(0.5), False)]))
+    res.wall_time = 1.5
+    folder = write_study(res, tmp_path)
+    text = (folder / "numpy.csv").read_text()
+    assert "np." not in text and text.splitlines()[1] == "3,0.125,True"
+    frame = pd.read_csv(folder / "numpy.csv")
+    assert frame["n"].dtype.kind == "i" and frame["x"].dtype.kind == "f" and frame["x"][0] == 0.125
+    assert pd.read_csv(folder / "numbers.csv")["error"].dtype.kind == "f"  # NaN cells are empty, not "nan" text
+    before = {p.name: p.read_bytes() for p in folder.iterdir()}
+    res.wall_time = 7.25
+    write_study(res, tmp_path)
+    after = {p.name: p.read_bytes() for p in folder.iterdir()}
+    assert sorted(before) == sorted(after)
+    assert [name for name in before if before[name] != after[name]] == ["timings.json"]
+    assert json.loads(after["timings.json"])["wall_time"] == 7.25
+    write_index(tmp_path)
+    assert "7.2" in (tmp_path / "timings.md").read_text() and "7.2" not in (tmp_path / "index.md").read_text()
+
+
 def test_nothing_is_written_half_way(tmp_path):
     res = synthetic()
     write_study(res, tmp_path)
