@@ -1,4 +1,4 @@
-"""The ``deformable`` command line: ``run``, ``validate`` and ``bench``.
+"""The ``deformable`` command line: ``run``, ``validate``, ``bench`` and ``sweep``.
 
 Each subcommand lives in its own module, which provides ``configure(parser)``
 and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
@@ -22,6 +22,7 @@ COMMANDS = {
     "run": ("validation.commands.run", "run a scene and write an XDMF time series (ParaView)"),
     "validate": ("validation.commands.validate", "run validation studies and write reports"),
     "bench": ("validation.commands.bench", "time the time step of each backend"),
+    "sweep": ("validation.commands.sweep", "run a scene over a grid of config values; one table (and a map)"),
 }
 
 

@@ -7,14 +7,17 @@ dozen steps).
 
 import contextlib
 import io
+import json
 import os
 import sys
 
 import numpy as np
 import pytest
 
+from deformable import scenes
 from validation.harness import runner as runner_module
 from validation.harness.runner import Progress, Runner, counted, duration, parse_scheduler
+from validation.harness.sweep import Sweep, run_case
 from validation.studies import STUDIES
 from validation.studies.paper import Case
 from validation.studies.paper import run_case as paper_case
@@ -30,6 +33,17 @@ def executors(dask_scheduler):
                "dask-file": Runner(scheduler=str(path))}
     with contextlib.ExitStack() as stack:
         yield {name: stack.enter_context(r) for name, r in runners.items()}
+
+
+def tiny_sweep() -> Sweep:
+    """Both backends, two etas, and a refused mu (a failed case): 8 cases of 25 steps on 6 x 6 nodes."""
+    base = scenes.config("hanging")
+    axes = (("nodes", ((6, 6),)), ("t_end", (0.025,)), ("eta", (20.0, 200.0)), ("mu", (-1.0, 0.2)))
+    return Sweep(base, axes, ("fd", "fe"), ("kinetic", "metric"))
+
+
+def without_wall(record: dict) -> str:
+    return json.dumps({k: v for k, v in record.items() if k != "wall"}, sort_keys=True)
 
 
 def same_bits(a, b) -> bool:
@@ -53,6 +67,16 @@ def test_a_pool_and_dask_map_in_order_like_the_serial_runner(executors):
     assert {pid for _, pid in got["serial"]} == {os.getpid()}
     for name in ("pool", "dask", "dask-file"):
         assert os.getpid() not in {pid for _, pid in got[name]}, f"{name} ran in this process"
+
+
+def test_sweep_cases_are_bit_identical_serially_on_the_pool_and_on_dask(executors):
+    cases = tiny_sweep().cases()
+    got = {name: r.map(run_case, cases) for name, r in executors.items()}
+    statuses = {r["status"] for r in got["serial"]}
+    assert "failed" in statuses and statuses - {"failed"}, statuses  # refused configs, and runs
+    reference = [without_wall(r) for r in got["serial"]]
+    for name, records in got.items():
+        assert [without_wall(r) for r in records] == reference, f"{name} differs from the serial run"
 
 
 def test_paper_study_cases_are_bit_identical_serially_on_the_pool_and_on_dask(executors):
