@@ -9,6 +9,7 @@ import subprocess
 import sys
 
 import numpy as np
+import psutil
 import pytest
 
 from deformable import scenes
@@ -140,20 +141,28 @@ def test_a_killed_sweep_started_again_runs_only_the_missing_cases(tmp_path, runs
     out = tmp_path / "out"
     argv = ["sweep", "hanging", "nodes=10x10", "t_end=0.15", "eta=10,20,40,80,160,320", "--out", str(out)]
     code = "import sys; from validation.commands import main; sys.exit(main(sys.argv[1:]))"
-    child = subprocess.Popen([sys.executable, "-c", code, *argv], stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    child = subprocess.Popen([sys.executable, "-c", code, *argv, "--jobs", "2"], stderr=subprocess.PIPE, text=True,
+                             cwd=tmp_path)
+    workers = []
     try:
         for line in child.stderr:  # one progress line per stored case (stderr is not a terminal)
             if "2/6 cases done" in line:
-                child.kill()
+                workers = psutil.Process(child.pid).children()
+                child.kill()  # SIGKILL: nothing runs on the way out
                 break
     finally:
         child.kill()
         child.wait()
+    assert len(workers) == 2
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    for process in alive:
+        process.kill()
+    assert not alive, "the pool's workers outlived the killed sweep"
     stored = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (out / "cases").glob("*.json")}
     assert 2 <= len(stored) < 6, f"{len(stored)} cases stored when the sweep was killed"
     assert not (out / "sweep.csv").exists()
 
-    assert main(argv) == 0
+    assert main(argv) == 0  # serially, in this process, where the case function is counted
     assert len(runs) == 6 - len(stored), "the restart ran cases that were stored"
     assert not {f"{key}.json" for key in runs} & stored.keys()
     for name, (data, mtime) in stored.items():
