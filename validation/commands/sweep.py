@@ -192,10 +192,10 @@ def execute(args) -> int:
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))
     total = len(sweep.cases())
     t0 = time.perf_counter()
-    with runner:
+    with runner:  # a LocalCluster starts here: its start is part of the wall time, its shutdown is not
         records, ran = sweep.run(runner, out, reuse=not args.compare_serial)
+        wall = time.perf_counter() - t0
         where = runner.describe()
-    wall = time.perf_counter() - t0
     summary = (f"{counted(ran)} run {where} in {duration(wall)}; {total - ran} taken from earlier runs in this "
                f"folder; the cases' own wall times add up to {duration(_case_time(records))}.")
     differ = False
