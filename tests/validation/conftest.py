@@ -16,7 +16,5 @@ def dask_scheduler(tmp_path_factory):
     path = tmp_path_factory.mktemp("dask") / "scheduler.json"
     with Runner(scheduler="local:2") as runner:
         with distributed.Client(runner.address) as client:
-            assert len(client.scheduler_info()["workers"]) == 2
-            assert set(client.nthreads().values()) == {1}
             client.write_scheduler_file(str(path))
         yield runner.address, path

@@ -226,8 +226,14 @@ class Runner:
         # Dask logs its life (scheduler up, workers joining and leaving) at INFO on its own handler; keep warnings
         logging.getLogger("distributed").setLevel(logging.WARNING)
         if kind == "local":
-            self._cluster = distributed.LocalCluster(n_workers=where, threads_per_worker=1, processes=True,
-                                                     dashboard_address=None, silence_logs=logging.ERROR)
+            import dask
+
+            # Dask's workers get MALLOC_TRIM_THRESHOLD_=65536 (give freed memory back to the system at once),
+            # which costs these allocation-heavy cases about 10 % (measured: FD 24 x 24, 2000 steps, 3.1 s
+            # against 3.45 s); None unsets it, so glibc's own adaptive thresholds apply
+            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+                self._cluster = distributed.LocalCluster(n_workers=where, threads_per_worker=1, processes=True,
+                                                         dashboard_address=None, silence_logs=logging.ERROR)
             self._client = distributed.Client(self._cluster)
             return
         try:

@@ -11,6 +11,7 @@ import json
 import os
 import sys
 
+import distributed
 import numpy as np
 import pytest
 
@@ -22,7 +23,7 @@ from validation.studies import STUDIES
 from validation.studies.paper import Case
 from validation.studies.paper import run_case as paper_case
 
-from .workload import reciprocal, square_and_pid
+from .workload import environment, reciprocal, square_and_pid
 
 
 @pytest.fixture(scope="module")
@@ -107,6 +108,13 @@ def test_map_raises_the_first_error_and_completed_yields_every_outcome(executors
         outcomes = sorted(r.completed(reciprocal, [1.0, 0.0, 2.0]), key=lambda o: o[0])
         assert [o[1] for o in outcomes] == [1.0, None, 0.5], name
         assert outcomes[0][2] is None and isinstance(outcomes[1][2], ZeroDivisionError), name
+
+
+def test_local_workers_are_two_of_one_thread_each_with_one_blas_thread_and_no_malloc_trimming(dask_scheduler):
+    with distributed.Client(dask_scheduler[0]) as client:
+        assert set(client.nthreads().values()) == {1} and len(client.nthreads()) == 2
+        for name, value in (("MKL_NUM_THREADS", "1"), ("OPENBLAS_NUM_THREADS", "1"), ("MALLOC_TRIM_THRESHOLD_", None)):
+            assert set(client.run(environment, name).values()) == {value}, name
 
 
 # -- bad input -----------------------------------------------------------------------

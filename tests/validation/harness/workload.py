@@ -11,3 +11,8 @@ def square_and_pid(x):
 def reciprocal(x):
     """1 / x: raises ZeroDivisionError at 0."""
     return 1.0 / x
+
+
+def environment(name):
+    """The value of an environment variable in the process that runs this (None when unset)."""
+    return os.environ.get(name)
