@@ -1,4 +1,4 @@
-"""The ``deformable`` command line: ``run``, ``check``, ``validate`` and ``bench``.
+"""The ``deformable`` command line: ``run``, ``check``, ``validate``, ``bench`` and ``sweep``.
 
 Each subcommand lives in its own module, which provides ``configure(parser)``
 and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
@@ -23,6 +23,7 @@ COMMANDS = {
     "check": ("validation.commands.check", "check that a scene's rest state is a surface (section 3.2, eq. (10))"),
     "validate": ("validation.commands.validate", "run validation studies and write reports"),
     "bench": ("validation.commands.bench", "time the time step of each backend"),
+    "sweep": ("validation.commands.sweep", "run a scene over a grid of config values; one table (and a map)"),
 }
 
 

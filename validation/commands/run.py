@@ -38,11 +38,10 @@ from pathlib import Path
 
 from deformable import scenes
 from deformable.dynamics import EnergyMonitor, State, TimeStepper
-from deformable.dynamics.stepper import round_down
 from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
 from deformable.output.render import FIELDS, render_series
 from deformable.scene import FORCE_MODELS
-from validation.harness.backends import BACKENDS, make_model
+from validation.harness.backends import BACKENDS, backend_dt, make_model
 from validation.harness.report import writable_folder
 
 __all__ = ["configure", "execute", "parse_grid", "scene_config", "Run", "prepare", "simulate"]
@@ -162,8 +161,9 @@ def prepare(args) -> Run:
     # the scenes' default dt is the FD one; a backend with a tighter stretching bound gets its own.
     # The bound comes from lagging alpha (eq. 25): the frozen and variational models have none (inf).
     bound = model.stable_step()
-    if dt is None and checkpoint is None and cfg.dt > 0.5 * bound:
-        cfg = cfg.replace(dt=round_down(0.5 * bound))
+    own = backend_dt(model, cfg.dt)
+    if dt is None and checkpoint is None and own != cfg.dt:
+        cfg = cfg.replace(dt=own)
         log.info("dt = %g s for the %s backend (half its stretching bound %.3g s)", cfg.dt, backend, bound)
     if cfg.dt > bound:
         log.warning("dt = %g s exceeds the %s backend's stretching stability bound %.3g s "

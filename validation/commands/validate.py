@@ -1,9 +1,15 @@
-r"""``deformable validate [STUDY ...] [--quick | --full] [--levels K] [--surfaces S,...] [--out DIR] [--jobs N]``.
+r"""``deformable validate``: run validation studies and write their reports.
+
+::
+
+    deformable validate [STUDY ...] [--quick | --full] [--levels K] [--surfaces S,...] [--out DIR]
+                        [--jobs N | --scheduler local:N|tcp://HOST:PORT|FILE]
 
 Runs the registered studies (:data:`validation.studies.STUDIES`; when none is
 named, every one whose ``in_default`` is true, at the quick levels), each on
-a shared :class:`Runner` (a process pool of N workers for the independent
-cases), and writes each
+a shared :class:`Runner` (the executor layer: the independent cases run
+serially, on a process pool of N workers, or on Dask with ``--scheduler
+local:N | tcp://HOST:PORT | FILE``), and writes each
 study's report folder as soon as that study has finished, then the index.
 Unknown studies, surfaces or level counts end in one line on stderr and exit
 code 2 (a ValueError, turned into that by :mod:`validation.commands`). The exit
@@ -41,13 +47,18 @@ def configure(parser) -> None:
     parser.add_argument("--surfaces", default=None, metavar="S,...",
                         help="comma-separated analytic surfaces for the studies that take them")
     parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default: reports)")
-    parser.add_argument("--jobs", type=int, default=1, metavar="N", help="worker processes (default: 1)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, default=1, metavar="N", help="worker processes (default: 1)")
+    where.add_argument("--scheduler", default=None, metavar="SPEC",
+                       help="run the cases on Dask: local:N (a LocalCluster of N workers), tcp://HOST:PORT or a "
+                       "scheduler file; needs pip install \".[distributed]\"")
 
 
 def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None, out="reports", jobs: int = 1,
-        progress: bool = True):
+        progress: bool = True, scheduler: str | None = None):
     """Run studies and write their reports; returns the list of StudyResult.
 
+    ``jobs`` local processes, or ``scheduler`` (:class:`~validation.harness.runner.Runner`) for Dask.
     All arguments are checked before anything runs (ValueError otherwise).
     """
     from validation.harness import surfaces as sf
@@ -60,9 +71,10 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
             raise ValueError("--surfaces needs at least one surface name")
         for s in surfaces:
             sf.get(s)
+    runner = Runner(jobs, progress=progress, scheduler=scheduler)
     writable_folder(out)
     results = []
-    with Runner(jobs, progress=progress) as runner:
+    with runner:
         for st, k in zip(studies, counts):
             t0 = time.perf_counter()
             res = st.run(k, runner=runner, surfaces=surfaces)
@@ -79,7 +91,7 @@ def execute(args) -> int:
     """Entry point of ``deformable validate``: 0 if every check passed, 1 otherwise."""
     t0 = time.perf_counter()
     results = run(args.studies, args.mode, args.levels, args.surfaces, args.out, args.jobs,
-                  progress=sys.stderr.isatty())
+                  progress=sys.stderr.isatty(), scheduler=args.scheduler)
     passed = sum(r.passed for r in results)
     failed = sum(r.failed for r in results)
     for r in results:

@@ -6,7 +6,7 @@ backend name into a model.
 
 from __future__ import annotations
 
-__all__ = ["BACKENDS", "make_model"]
+__all__ = ["BACKENDS", "make_model", "backend_dt"]
 
 BACKENDS = ("fd", "fe")
 
@@ -25,3 +25,16 @@ def make_model(scene, backend: str, **options):
 
         return FEModel(scene, **options)
     raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+
+
+def backend_dt(model, dt: float) -> float:
+    """The step (s) a scene's default ``dt`` becomes on ``model``'s backend.
+
+    The scenes' default dt is the FD one; a backend whose stretching bound ``model.stable_step()``
+    (eq. 25 lags alpha; docs/design.md, "Time stepping") is tighter gets half that bound, rounded
+    down to two significant digits. The frozen and variational models have no bound (inf): dt stays.
+    """
+    from deformable.dynamics.stepper import round_down
+
+    bound = model.stable_step()
+    return round_down(0.5 * bound) if dt > 0.5 * bound else dt

@@ -12,6 +12,8 @@ from validation.commands import main
     (["validate", "statics", "--levels", "1"], "runs 3 to 7 levels, got 1"),
     (["validate", "--jobs", "0", "statics"], "jobs must be a positive integer"),
     (["validate", "--quick", "--full"], "not allowed with argument"),
+    (["validate", "statics", "--scheduler", "local:0"], "needs a positive number of workers"),
+    (["validate", "statics", "--jobs", "2", "--scheduler", "local:2"], "not allowed with argument"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, message, capsys, tmp_path):
     code = main(argv + ["--out", str(tmp_path)])

@@ -1,0 +1,222 @@
+r"""``deformable sweep``: a scene run over the cartesian product of config values, one table.
+
+::
+
+    deformable sweep SCENE|FILE.toml KEY=V1,V2,... [KEY=START:STOP:NUM[:log] ...]
+                     [--backend fd|fe|fd,fe] [--measure NAME,...] [--out DIR]
+                     [--jobs N | --scheduler local:N|tcp://HOST:PORT|FILE]
+                     [--fail-on-error] [--compare-serial]
+
+Each ``KEY=...`` names a field of the scene's config (``dataclasses.fields``
+of :func:`deformable.scenes.config`; a TOML scene file gives the base) and
+its values: a comma-separated list, where an item may be a range
+``START:STOP:NUM`` (NUM values, ends included; ``:log`` for geometric
+spacing); a key given one value is a fixed override (``nodes=12x12``,
+``t_end=0.5``). Every combination, on every backend of ``--backend``, is
+one run (:mod:`validation.harness.sweep`), through the executor layer
+(:mod:`validation.harness.runner`): serial by default, ``--jobs N`` local
+processes, or Dask with ``--scheduler``.
+
+Output (default ``sweeps/<scene>/``): ``sweep.csv``, ``sweep.md``,
+``sweep.toml`` and, for two swept keys, the map ``sweep.png``; each case's
+record in ``cases/``, written as it finishes. Run the same command again
+and only the cases not stored yet run (a killed sweep continues where it
+stopped). Progress (cases done, time left) goes to stderr.
+
+A case that diverges, or fails (a value the scene refuses, a solver error),
+is a row with its status and message; the exit code is 0 unless
+``--fail-on-error`` is given and some case did not finish (then 1). Bad
+input (an unknown scene, key, backend or measure, a value that is not a
+number, a malformed range, a scheduler spec that is neither local:N, an
+address nor a file, Dask missing) is one line on stderr and exit code 2
+before anything is written.
+
+``--compare-serial`` is a measurement: it runs every case (none taken from
+the folder) on the chosen executor, then again serially in this process,
+and reports both wall times, their ratio and whether every number agrees
+bit for bit (exit code 1 if not).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import re
+import sys
+import tempfile
+import time
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+
+from deformable import scenes
+from validation.harness.backends import BACKENDS
+from validation.harness.report import writable_folder
+from validation.harness.runner import Runner, counted, duration
+from validation.harness.sweep import MEASURES, STATUSES, Sweep, write_outputs
+
+from .run import parse_grid
+
+__all__ = ["configure", "execute", "parse_axis", "parse_sweep"]
+
+log = logging.getLogger(__name__)
+
+
+def configure(parser) -> None:
+    """Arguments of ``deformable sweep``."""
+    parser.add_argument("scene", metavar="SCENE|FILE.toml",
+                        help=f"a scene name ({', '.join(scenes.SCENES)}) or a TOML scene file")
+    parser.add_argument("values", nargs="*", metavar="KEY=VALUES",
+                        help="a config field and its values: V1,V2,... and/or ranges START:STOP:NUM[:log]; "
+                        "one value is a fixed override (e.g. nodes=16x16 t_end=0.5)")
+    parser.add_argument("--backend", default="fd", help="fd, fe or fd,fe (default: fd)")
+    parser.add_argument("--measure", default=None, metavar="NAME,...",
+                        help=f"extra columns, at the end of each run: {', '.join(MEASURES)}")
+    parser.add_argument("--out", default=None, metavar="DIR", help="output folder (default: sweeps/<scene>)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, default=1, metavar="N", help="local worker processes (default: 1)")
+    where.add_argument("--scheduler", default=None, metavar="SPEC",
+                       help="run on Dask: local:N (a LocalCluster of N workers), tcp://HOST:PORT (a running "
+                       "scheduler) or a scheduler file; needs pip install \".[distributed]\"")
+    parser.add_argument("--fail-on-error", action="store_true",
+                        help="exit 1 when a case did not finish (diverged, failed, ...)")
+    parser.add_argument("--compare-serial", action="store_true",
+                        help="measure: run every case on the executor and then serially; report both wall times "
+                        "and whether the numbers agree bit for bit")
+
+
+# -- parsing ---------------------------------------------------------------------------
+def _number(key: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"sweep value of {key} must be a number, got {text!r}") from None
+
+
+def _values(key: str, item: str, default) -> list:
+    """One comma-separated item of ``key=...``: a value, or a range ``start:stop:num[:log]`` of a number field."""
+    item = item.strip()
+    if isinstance(default, tuple):
+        if all(isinstance(v, int) for v in default):  # the node grid: MxN, or N for N x N
+            return [parse_grid(item if re.search("[xX]", item) else f"{item}x{item}")]
+        parts = re.split(r"\s*[xX]\s*", item)
+        if len(parts) > 2 or not all(parts):
+            raise ValueError(f"sweep value of {key} must be AxB or A (for AxA), got {item!r}")
+        pair = [_number(key, p) for p in parts]
+        return [tuple(pair if len(pair) == 2 else pair * 2)]
+    if isinstance(default, str):
+        if not item:
+            raise ValueError(f"sweep value of {key} is empty")
+        return [item]
+    if ":" not in item:
+        return [_number(key, item)]
+    parts = item.split(":")
+    log_spaced = len(parts) == 4 and parts[3] == "log"
+    if len(parts) != 3 and not log_spaced:
+        raise ValueError(f"sweep range of {key} must be START:STOP:NUM or START:STOP:NUM:log, got {item!r}")
+    start, stop = _number(key, parts[0]), _number(key, parts[1])
+    if not parts[2].isdigit() or int(parts[2]) < 2:
+        raise ValueError(f"sweep range {key}={item} needs NUM >= 2 values, got {parts[2]!r}")
+    if log_spaced and not (start > 0 and stop > 0):
+        raise ValueError(f"sweep range {key}={item}: a log range needs START and STOP > 0")
+    spaced = np.geomspace if log_spaced else np.linspace
+    return [float(v) for v in spaced(start, stop, int(parts[2]))]
+
+
+def parse_axis(base, text: str) -> tuple[str, tuple]:
+    """``"key=v1,v2,start:stop:num,..."`` -> (key, values) for the config ``base``; ValueError on bad input.
+
+    Values are typed by the field's default: numbers; ``MxN`` (or ``N``) for the node grid; ``AxB``
+    (or ``A``) for the other pairs (size, rest_metric); text for the others (force_model). Whether
+    the scene accepts a value is decided by each case (a refused one is a failed row).
+    """
+    key, sep, rest = str(text).partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise ValueError(f"sweep values must be KEY=V1,V2,... or KEY=START:STOP:NUM, got {text!r}")
+    if key == "scene":
+        raise ValueError("the scene itself is not a sweep key: run one sweep per scene")
+    known = {f.name for f in fields(base)} - {"scene"}
+    if key not in known:
+        raise ValueError(f"unknown key {key!r} for scene {base.scene!r}; known keys: {', '.join(sorted(known))}")
+    values = []
+    for item in rest.split(","):
+        for v in _values(key, item, getattr(base, key)):
+            if v not in values:
+                values.append(v)
+    return key, tuple(values)
+
+
+def _names(text: str, known, what: str) -> tuple[str, ...]:
+    names = tuple(dict.fromkeys(n.strip() for n in str(text).split(",")))
+    for n in names:
+        if n not in known:
+            raise ValueError(f"unknown {what} {n!r}; choose from {', '.join(known)}")
+    return names
+
+
+def parse_sweep(base, items, backends: str = "fd", measures: str | None = None) -> Sweep:
+    """The :class:`Sweep` of command-line text: ``items`` like ``"eta=10,20"``, ``backends`` like ``"fd,fe"``.
+
+    Raises ValueError (one line naming the key and value) on bad input.
+    """
+    axes = [parse_axis(base, item) for item in items]
+    keys = [k for k, _ in axes]
+    twice = [k for k in dict.fromkeys(keys) if keys.count(k) > 1]
+    if twice:
+        raise ValueError(f"sweep key {twice[0]!r} is given twice; list all its values in one KEY=V1,V2,...")
+    return Sweep(base, tuple(axes), _names(backends, BACKENDS, "backend"),
+                 _names(measures, tuple(MEASURES), "measure") if measures else ())
+
+
+# -- the command -----------------------------------------------------------------------
+def _numbers(record: dict) -> str:
+    """Everything a case computed, wall time aside, as text (to compare runs bit for bit)."""
+    return json.dumps({k: v for k, v in record.items() if k != "wall"}, sort_keys=True)
+
+
+def _case_time(records) -> float:
+    """The cases' own wall times added up (s); a case lost with its worker has none."""
+    return sum(r["wall"] for r in records if math.isfinite(r["wall"]))
+
+
+def execute(args) -> int:
+    """``deformable sweep``: 0, or 1 with --fail-on-error when a case did not finish (or --compare-serial differed)."""
+    base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
+    sweep = parse_sweep(base, args.values, args.backend, args.measure)
+    runner = Runner(args.jobs, progress=True, scheduler=args.scheduler)
+    out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
+    command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
+                       + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))
+    total = len(sweep.cases())
+    t0 = time.perf_counter()
+    with runner:  # a LocalCluster starts here: its start is part of the wall time, its shutdown is not
+        records, ran = sweep.run(runner, out, reuse=not args.compare_serial)
+        wall = time.perf_counter() - t0
+        where = runner.describe()
+    summary = (f"{counted(ran)} run {where} in {duration(wall)}; {total - ran} taken from earlier runs in this "
+               f"folder; the cases' own wall times add up to {duration(_case_time(records))}.")
+    differ = False
+    if args.compare_serial:
+        with tempfile.TemporaryDirectory(dir=out, prefix=".serial-") as tmp, Runner(1, progress=True) as serial:
+            t1 = time.perf_counter()
+            alone, _ = sweep.run(serial, tmp, reuse=False)
+            serial_wall = time.perf_counter() - t1
+        differ = any(_numbers(a) != _numbers(b) for a, b in zip(records, alone))
+        summary += (f" Compared with a serial run of the same {counted(total)}: {duration(serial_wall)} serially, "
+                    f"{wall:.2f} s / {serial_wall:.2f} s = {wall / serial_wall:.3f} of its wall time "
+                    f"(starting the workers included); numbers {'DIFFER' if differ else 'bit-identical'}.")
+    write_outputs(out, sweep, records, command=command, summary=summary)
+    statuses = [r["status"] for r in records]
+    counts = ", ".join(f"{statuses.count(s)} {s}" for s in STATUSES if s in statuses)
+    print(f"{base.scene}: {counted(total)} ({counts}). {summary} Table: {out / 'sweep.md'}")
+    unfinished = total - statuses.count("finished")
+    if differ:
+        print("sweep: the executor's numbers differ from the serial run's", file=sys.stderr)
+        return 1
+    if args.fail_on_error and unfinished:
+        print(f"sweep: {unfinished} of {total} cases did not finish (--fail-on-error)", file=sys.stderr)
+        return 1
+    return 0
