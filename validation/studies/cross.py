@@ -53,14 +53,13 @@ import numpy as np
 import deformable as dm
 from deformable import scenes
 from validation.harness.backends import make_model
-from validation.harness.orders import fit_order
+from validation.harness.orders import FS, fit_order, gci
 from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at
 
 COARSEST = 5
 COMMON = 5  # common points: COMMON x COMMON nodes, shared by every grid
 T_END = 0.4
 SAMPLES = (0.1, 0.2, 0.3, 0.4)
-FS = 1.25
 
 
 def scene(name: str, nodes: int) -> dm.Scene:
@@ -114,25 +113,6 @@ def run_case(case: Case) -> dict:
     except dm.DivergenceError as err:
         status = str(err)
     return {"h": model.spacing[0], "status": status, **{k: np.array(v) for k, v in out.items()}}
-
-
-def gci(f1: float, f2: float, f3: float, r: float = 2.0, p_theory: float | None = None) -> dict:
-    """Richardson extrapolation and Roache's GCI from three grids (f1 finest), refinement ratio r."""
-    e21, e32 = f2 - f1, f3 - f2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        p = float(np.log(abs(e32 / e21)) / np.log(r)) if e21 != 0 and e32 != 0 else np.nan
-    out = {"p": p, "oscillatory": bool(e21 * e32 < 0)}
-    if np.isfinite(p) and p > 0:
-        out["extrapolated"] = f1 + (f1 - f2) / (r**p - 1)
-        out["gci_12"] = FS * abs(e21 / f1) / (r**p - 1)
-        out["gci_23"] = FS * abs(e32 / f2) / (r**p - 1)
-        out["asymptotic"] = out["gci_23"] / (r**p * out["gci_12"])
-    if p_theory is not None and e21 != 0:
-        g12 = FS * abs(e21 / f1) / (r**p_theory - 1)
-        g23 = FS * abs(e32 / f2) / (r**p_theory - 1)
-        out["gci_12_theory"] = g12
-        out["asymptotic_theory"] = g23 / (r**p_theory * g12)
-    return out
 
 
 def fill(res, levels: int, runner) -> None:
