@@ -6,8 +6,13 @@ For a :class:`~validation.harness.study.StudyResult` ``res`` and an output folde
 - ``summary.md``: description, configuration, the checks as PASS/FAIL against
   their stated expectations, the tables, the findings, the figures, and the
   closing line "N checks passed, M failed";
-- ``results.json``: every number (tables, checks, data), the resolved
-  configuration, package versions and the wall time;
+- ``results.json``: every number (tables, checks, data) and the resolved
+  configuration;
+- ``run.md`` and ``run.json``: what depends on the run rather than on the code
+  (the wall time, package versions, the time of writing, and the study's
+  ``volatile`` tables and figures, e.g. CPU timings), so that running a study
+  again with the same code leaves summary.md, results.json and the CSVs as
+  they were;
 - ``<table>.csv`` for every table (full precision);
 - ``<figure>.png`` for every figure: log-log axes with labelled axes and
   units, a legend and dashed reference-slope lines (~50-100 KB each).
@@ -123,8 +128,8 @@ def _csv(table: Table) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(table.columns)
     for r in table.rows:
-        w.writerow(["" if isinstance(v, float) and not math.isfinite(v) else (repr(v) if isinstance(v, float) else v)
-                    for v in r])
+        w.writerow(["" if isinstance(v, float) and not math.isfinite(v)
+                    else (repr(float(v)) if isinstance(v, float) else v) for v in r])
     return buf.getvalue()
 
 
@@ -173,10 +178,27 @@ def plot(fig: Figure, path: Path) -> None:
     plt.close(f)
 
 
-def _summary(res: StudyResult, ver: dict) -> str:
+def _tables(tables) -> list[str]:
+    out = []
+    for t in tables:
+        out += [f"## {t.title}", ""]
+        if t.note:
+            out += [t.note, ""]
+        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+    return out
+
+
+def _figures(figures) -> list[str]:
+    out = ["## Figures", ""] if figures else []
+    for fig in figures:
+        out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+    return out
+
+
+def _summary(res: StudyResult) -> str:
     out = [f"# Study `{res.study}`", "", res.description, ""]
     out += ["## Configuration", "", "```json", json.dumps(_clean(res.config), indent=1, default=_json_default), "```",
-            "", f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
+            "", "Wall time, package versions and run-dependent measurements: [run.md](run.md).", ""]
     out += ["## Checks", ""]
     if res.checks:
         out.append(markdown_table(("result", "check", "expectation", "observed"),
@@ -185,18 +207,19 @@ def _summary(res: StudyResult, ver: dict) -> str:
     else:
         out.append("No checks.")
     out.append("")
-    for t in res.tables:
-        out += [f"## {t.title}", ""]
-        if t.note:
-            out += [t.note, ""]
-        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+    out += _tables([t for t in res.tables if not t.volatile])
     if res.findings:
         out += ["## Findings", ""] + [f"- {f}" for f in res.findings] + [""]
-    if res.figures:
-        out += ["## Figures", ""]
-        for fig in res.figures:
-            out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+    out += _figures([f for f in res.figures if not f.volatile])
     out.append(f"{res.passed} checks passed, {res.failed} failed")
+    return "\n".join(out) + "\n"
+
+
+def _run_page(res: StudyResult, ver: dict) -> str:
+    out = [f"# Study `{res.study}`: this run", "",
+           f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
+    out += _tables([t for t in res.tables if t.volatile])
+    out += _figures([f for f in res.figures if f.volatile])
     return "\n".join(out) + "\n"
 
 
@@ -208,11 +231,16 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=f".{res.study}-", dir=out))
     try:
         ver = versions()
-        (tmp / "summary.md").write_text(_summary(res, ver))
+        (tmp / "summary.md").write_text(_summary(res))
+        (tmp / "run.md").write_text(_run_page(res, ver))
         payload = res.to_dict()
-        payload["versions"] = ver
-        payload["written"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        volatile = {t.name for t in res.tables if t.volatile}
+        run = {"wall_time": payload.pop("wall_time"), "versions": ver,
+               "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+               "tables": [t for t in payload["tables"] if t["name"] in volatile]}
+        payload["tables"] = [t for t in payload["tables"] if t["name"] not in volatile]
         (tmp / "results.json").write_text(json.dumps(_clean(payload), indent=1, default=_json_default))
+        (tmp / "run.json").write_text(json.dumps(_clean(run), indent=1, default=_json_default))
         for t in res.tables:
             (tmp / f"{t.name}.csv").write_text(_csv(t))
         for fig in res.figures:
@@ -250,13 +278,13 @@ def write_index(out: str | os.PathLike, order=()) -> Path:
             continue
         r = json.loads(f.read_text())
         rows.append((f"[{r['study']}]({d.name}/summary.md)", r.get("description", ""), r.get("passed", 0),
-                     r.get("failed", 0), r.get("config", {}).get("levels", ""), f"{r.get('wall_time', 0):.1f}"))
+                     r.get("failed", 0), r.get("config", {}).get("levels", "")))
     passed = sum(r[2] for r in rows)
     failed = sum(r[3] for r in rows)
     text = ["# Validation reports", "",
             "Generated by `deformable validate`; each study folder holds summary.md, results.json, CSV tables "
-            "and PNG plots.", "",
-            markdown_table(("study", "what it measures", "passed", "failed", "levels", "wall time (s)"), rows), "",
+            "and PNG plots; wall times and other run-dependent measurements are in each folder's run.md.", "",
+            markdown_table(("study", "what it measures", "passed", "failed", "levels"), rows), "",
             f"{passed} checks passed, {failed} failed", ""]
     path = out / "index.md"
     path.write_text("\n".join(text))
