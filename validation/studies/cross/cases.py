@@ -99,7 +99,7 @@ def _static(case: Case, grid) -> tuple[list, dict, int]:
         return out, scalars, its
     model = make_model(_scene(case.problem, grid), case.backend)
     X0 = model.initial_state()
-    if case.problem == "hanging":  # under its weight first: pushed from the unstressed state it has no lateral stiffness
+    if case.problem == "hanging":  # its weight first: pushed from the unstressed state it has no lateral stiffness
         X0, its = _equilibrium(make_model(_scene("hanging", grid, stage="weight"), case.backend), X0)
     X, k = _equilibrium(model, X0)
     if case.problem == "plate":
