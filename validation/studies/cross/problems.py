@@ -8,20 +8,21 @@ full tensors the model is the St Venant-Kirchhoff plate with E h = 8 eta and D =
 
 Statics
 
-- ``cantilever``: Sze, Liu and Lo (2004), "Hybrid-stress six-node prism elements for geometrically
-  nonlinear analysis of shells", the cantilever under an end shear force: L = 10, b = 1, E h = 1.2e5,
-  D = 100, a dead tip load P with P L^2 / EI = 1 to 4, EI = D b. With nu = 0 the strip bends cylindrically
-  (no anticlastic coupling: G22 = 1, B22 = B12 = 0), so the 2-D solution is the extensible elastica of the
-  model's own energy per unit width, ``eta (lambda^2 - 1)^2 + xi (lambda theta')^2`` (lambda the stretch,
-  theta the slope: G11 = lambda^2, B11 = n . r_11 = lambda theta'), :func:`elastica_tip`. Its tip differs
-  from the inextensible elastica of the literature ((-u/L, w/L) = (0.3289, 0.6700) at P L^2/EI = 4) by the
-  axial strain, about 3e-5.
+- ``cantilever``: Sze, Liu and Lo (2004), "Popular benchmark problems for geometric nonlinear analysis of
+  shells" (Finite Elements in Analysis and Design 40), the cantilever under an end shear force: L = 10,
+  b = 1, E h = 1.2e5, D = 100, a dead tip load P with P L^2 / EI = 1 to 4, EI = D b. With nu = 0 the strip
+  bends cylindrically (no anticlastic coupling: G22 = 1, B22 = B12 = 0), so the 2-D solution is the
+  extensible elastica of the model's own energy per unit width, ``eta (lambda^2 - 1)^2 + xi (lambda
+  theta')^2`` (lambda the stretch, theta the slope: G11 = lambda^2, B11 = n . r_11 = lambda theta'),
+  :func:`elastica_tip`. Its tip differs from the inextensible elastica of the literature ((-u/L, w/L) =
+  (0.3289, 0.6700) at P L^2/EI = 4) by the axial strain, about 3e-5.
 - ``plate``: the square a = 1 clamped on its four edges under a uniform dead load q, D = 1, E h = 8e3
   (thickness sqrt(12 D / E h) = 0.039): at q = 30 the centre deflection is 0.78 of the linear plate's,
   a membrane-stiffened (nonlinear) plate. ``linear_plate``: E h = 8e4, q = 1e-3 (w / thickness = 1e-4,
   the membrane correction below 1e-9): Timoshenko's w_c = 0.00126 q a^4 / D, whose further digits
   (:data:`CLAMPED_CENTRE`) come from a bicubic Hermite solution on 256 x 256 elements (order 4,
-  Richardson-extrapolated; Taylor and Govindjee (2004) give the same 0.00126532).
+  Richardson-extrapolated; Taylor and Govindjee (2004), "Solution of clamped rectangular plate problems",
+  give the same 0.00126532).
 - ``hanging``: a sheet 1 x 1 in the x-z plane hanging under gravity from its pinned top edge, D = 0.02,
   E h = 800, mu = 1, pushed sideways by ``f_y = 2 (1 - a2) sin(pi a1)`` (N/m^2, zero at the pinned edge): it
   bulges out of its plane (B about 0.3 1/m).
