@@ -12,8 +12,10 @@ backends:
 
 :class:`Pin` holds positions (optionally moving them rigidly in time),
 :class:`Slide` lets nodes move along one axis only (the curtain rail),
-:class:`Clamp` holds an edge and its tangent plane (FD: the edge row and the
-next one in; FE: values and all derivatives at the edge).
+:class:`Clamp` holds an edge and its tangent plane, not the in-plane stretch
+across it (FD: the edge row, with a ghost row outside it, or the edge row and
+the next one in; FE: values, the derivative along the edge, and the normal
+component of the derivatives across it).
 """
 
 from __future__ import annotations
@@ -165,8 +167,10 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
     edge_dofs : callable edge name -> int array
         What else a pin or slide of a whole named edge holds (FE: the derivative along the edge, known once
         r is known along it; FD: nothing).
-    clamp_dofs : callable edge name -> int array
-        What a Clamp of the edge holds (FD: the edge row and the next one; FE: every dof of the edge nodes).
+    clamp_dofs : callable edge name -> int array, or a tuple of three (x, y, z)
+        What a Clamp of the edge holds, for every coordinate or per coordinate (FD: the edge row, with
+        the ghost row of the reflection clamp, or the edge row and the next one; FE: values and the
+        derivative along the edge, and the normal component of the derivatives across it).
     """
     sheet = scene.sheet
     fixed = np.zeros((3, ndof), bool)
@@ -174,7 +178,12 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
     for c in scene.constraints:
         if isinstance(c, Clamp):
             for edge in c.edges:
-                fixed[:, clamp_dofs(edge)] = True
+                held = clamp_dofs(edge)
+                if isinstance(held, tuple):
+                    for k in range(3):
+                        fixed[k, held[k]] = True
+                else:
+                    fixed[:, held] = True
             continue
         values = node_dofs(select(c.where, sheet))
         held = np.concatenate([values] + [edge_dofs(e) for e in edges_named(c.where)])

@@ -29,8 +29,13 @@ def specs() -> list[str]:
     """What to hand pdoc: the packages, and the modules a package's ``__all__`` leaves out of its walk."""
     from pdoc.extract import walk_specs
 
-    covered = set(walk_specs(list(PACKAGES)))
-    return list(PACKAGES) + [m for m in modules() if m not in covered]
+    out = list(PACKAGES)
+    covered = set(walk_specs(out))
+    for m in modules():
+        if m not in covered:  # a hidden package brings its own walk: each module is handed over once
+            out.append(m)
+            covered |= set(walk_specs([m]))
+    return out
 
 
 def build(out) -> Path:

@@ -1,12 +1,13 @@
 """fdmodel: the paper's finite-difference discretisation (section 2.3, TPBF87 appendix).
 
-``FDModel(scene, weighting="pointwise")`` behind the backend contract
+``FDModel(scene, weighting=None)`` behind the backend contract
 (:class:`deformable.Backend`), module for module like :mod:`femodel`:
 
 - :mod:`fdmodel.model`: the model (geometry, loads, constraints, the system (21));
 - :mod:`fdmodel.operators`: the difference operators (FE's counterpart: :mod:`femodel.hermite`);
 - :mod:`fdmodel.strength`: the strength matrix K(r) of eq. (16)-(20) on a fixed pattern;
-- :mod:`fdmodel.energy`: the discrete energy (13), its exact gradient and Hessians.
+- :mod:`fdmodel.energy`: the discrete energy (13), its exact gradient and Hessians;
+- :mod:`fdmodel.clamp`: the reflection clamp (a ghost row outside a clamped edge).
 """
 
 from .energy import DiscreteEnergy

@@ -3,27 +3,44 @@ r"""The discrete energy (13) on the FD grid, with its exact gradient and Hessian
 The "variational" force model uses the gradient of the energy the paper writes
 down instead of the force (14) (docs/design.md: the two differ; under (14) a
 flat sheet has no linear bending stiffness); the tpbf87 model reports this
-energy too. On the node grid
+energy too. The paper defines no FD for it; this one is built from the
+paper's differences so that each term of eq. (13) is a second-order
+quadrature (the midpoint or the trapezoidal rule at the point where its
+stencil is centred):
 
-    E(r) = h1 h2 sum_k sum_ij  c^S_ij[k] s_ij[k]^2 + c^B_ij[k] b_ij[k]^2,
-    s_ij = D_i+ r . D_j+ r - G0_ij                  (eq. 18)
-    b_ij = n . D_ij r - B0_ij                         (eq. 19)
+    E(r) = sum_nodes [ eta_11 (D1+ r . D1+ r - G0_11)^2 w_D1 + eta_22 (D2+ r . D2+ r - G0_22)^2 w_D2   (eq. 18)
+                     + xi_11 (n . D11 r - B0_11)^2 w_D11  + xi_22 (n . D22 r - B0_22)^2 w_D22 ]     (eq. 19)
+         + sum_cells [ (eta_12 + eta_21) (a1 . a2 - G0_12)^2 + (xi_12 + xi_21) (n_c . D12+ r - B0_12)^2 ] w_D12
 
-with ``c^S_11 = eta_11``, ``c^S_22 = eta_22``, ``c^S_12 = eta_12 + eta_21``
-(G12 = G21 share one residual), likewise ``c^B`` with xi, each times the row
-weight of the FD model (its validity mask and, for the control-area weighting,
-the trapezoidal share). The normal is ``n = t1 x t2 / |t1 x t2|`` with the
-tangents ``t_i = T_i r`` (forward differences, backward on the last row).
+times the cell area h1 h2, with the row weights w of the FD model (its
+validity mask and, for the control-area weighting, the trapezoidal share).
 
-At node k the integrand depends on seven vectors, the *slots* of
-:mod:`deformable.integrand`: d_i = D_i+ r, t_i = T_i r and v_ij = D_ij r;
-:class:`SlotMap` computes them (one sparse product) and carries the
-integrand's gradient back (its transpose). Each slot at node k is a
-combination of the positions of six nodes, the stencil (m, n), (m + 1, n),
-(m - 1, n), (m, n + 1), (m, n - 1), (m + 1, n + 1): the Hessian is assembled
-node by node as an 18 x 18 block (6 nodes x 3 coordinates)
-``C_k^T H_k C_k`` from the integrand's point Hessian H_k and the stencil
-coefficients C_k, summed on a fixed pattern
+- The diagonal terms stand at the nodes. D1+ r is centred at the edge midpoint
+  (m + 1/2, n), so G11 is the midpoint rule along a1 (and the row weights the
+  trapezoidal rule across); D11 r is centred at the node, and so is the normal
+  n = t1 x t2 / |t1 x t2| with *central* tangents t_i (one-sided on the edge
+  rows of a free edge, where the rows carry half a cell; the clamp's own
+  tangent at a clamped edge, :mod:`fdmodel.clamp`).
+- The shear and twist terms stand at the cell centres (m + 1/2, n + 1/2),
+  where D12+ is centred: G12 = a1 . a2 with the cell's mean tangents
+  a1 = (D1+ r[m, n] + D1+ r[m, n + 1]) / 2, a2 likewise, and B12 with the
+  normal n_c of those tangents. The node product D1+ r . D2+ r of eq. (18)
+  has no common centre (its factors stand at (m + 1/2, n) and (m, n + 1/2)):
+  as a quadrature of the shear term it is first order, with an error
+  proportional to the strain gradients, which made FD's G converge at
+  order 0.8 on the nonlinear clamped plate; the paper, with eta_12 = xi_12 = 0,
+  never meets it.
+
+Each part is a set of points (nodes, cells) at which the integrand of
+:mod:`deformable.integrand` depends on a few *slot* vectors, each a
+difference of the positions: :class:`SlotMap` computes them (one sparse
+product, plus the clamp's affine part) and carries the integrand's gradient
+back (its transpose). Every slot at node k (or at the cell whose lower-left
+corner is k) combines the positions of at most six nodes, the stencil
+(m, n), (m + 1, n), (m - 1, n), (m, n + 1), (m, n - 1), (m + 1, n + 1): the
+Hessian is assembled node by node as an 18 x 18 block (6 nodes x 3
+coordinates) ``C_k^T H_k C_k`` from the point Hessians H_k and the stencil
+coefficients C_k of both parts, summed on one fixed pattern
 (:class:`deformable.assembly.SymmetricElements`): no sparse-sparse product
 per call. Stencil positions outside the grid carry zero coefficients (the
 natural boundary rule) and point at the node itself.
@@ -34,47 +51,52 @@ coordinate a of node k.
 
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 import scipy.sparse as sp
 
 from deformable.assembly import SymmetricElements
 from deformable.backend import Energy
-from deformable.integrand import FD_SLOTS, HESSIANS, Integrand, slot_tensors
+from deformable.integrand import HESSIANS, Integrand, slot_tensors
 
 __all__ = ["DiscreteEnergy", "SlotMap", "HESSIANS", "STENCIL"]
 
 #: node offsets (dm, dn) of the stencil of a node's slots
 STENCIL = ((0, 0), (1, 0), (-1, 0), (0, 1), (0, -1), (1, 1))
-#: the operators of the slots, in the order of deformable.integrand.FD_SLOTS
-_SLOT_OPERATORS = ("D1", "D2", "T1", "T2", "D11", "D12", "D22")
 
 
 class SlotMap:
-    """The FD slots (d1, d2, t1, t2, v11, v12, v22) at every node, and their stencils.
+    """Slot vectors at every node (or cell) of the grid as differences of the positions, and their stencils.
 
     Parameters
     ----------
-    ops : dict of sparse (MN, MN)
-        D1, D2, D11, D22, D12 of :func:`fdmodel.operators.operators`.
-    T : (sparse, sparse)
-        The tangent operators T1, T2 of :func:`fdmodel.operators.tangents`.
+    rows : sequence of sparse (MN, MN)
+        One operator per slot, in the order of ``layout``'s positions.
     shape : (M, N)
+    layout : dict
+        Slot name -> position (:data:`deformable.integrand.FD_SLOTS` or ``FE_SLOTS``).
+    offset : array (S, MN, 3), optional
+        The affine part of the slots (the clamp's ghost rows, :mod:`fdmodel.clamp`); zero by default.
 
     Attributes
     ----------
-    L : sparse (7 MN, MN)
-        Slot s at node k is row ``s MN + k`` applied to the positions.
+    L : sparse (S MN, MN)
+        Slot s at point k is row ``s MN + k`` applied to the positions.
     stencil : int array (MN, 6)
-        The stencil nodes of every node (the node itself where the stencil leaves the grid).
-    C : array (MN, 7, 6)
-        The coefficient of stencil node p in slot s at node k.
+        The stencil nodes of every point (the node itself where the stencil leaves the grid).
+    C : array (MN, S, 6)
+        The coefficient of stencil node p in slot s at point k.
     """
 
-    def __init__(self, ops: dict, T: tuple, shape: tuple[int, int]):
+    def __init__(self, rows: Sequence[sp.spmatrix], shape: tuple[int, int], layout: dict,
+                 offset: np.ndarray | None = None):
         M, N = shape
+        self.shape, self.layout = shape, dict(layout)
         self.n = n = M * N
-        named = dict(ops, T1=T[0], T2=T[1])
-        self.L = sp.vstack([named[k] for k in _SLOT_OPERATORS], format="csr")
+        self.S = S = len(rows)
+        self.offset = None if offset is None else np.ascontiguousarray(offset.transpose(1, 0, 2))  # (MN, S, 3)
+        self.L = sp.vstack(list(rows), format="csr")
         m, k = np.divmod(np.arange(n), N)
         stencil = np.empty((n, len(STENCIL)), np.int64)
         for p, (dm, dn) in enumerate(STENCIL):
@@ -87,43 +109,54 @@ class SlotMap:
         position = np.full(9, -1)  # offset code 3 (dm + 1) + (dn + 1) -> stencil position
         for q, (dm, dn) in enumerate(STENCIL):
             position[3 * (dm + 1) + dn + 1] = q
-        p = position[3 * (cm - m[node] + 1) + ck - k[node] + 1]
-        self.C = np.zeros((n, len(_SLOT_OPERATORS), len(STENCIL)))
+        code = 3 * (cm - m[node] + 1) + ck - k[node] + 1
+        p = position[np.clip(code, 0, 8)]
+        if np.any((np.abs(cm - m[node]) > 1) | (np.abs(ck - k[node]) > 1) | (p < 0)):
+            raise ValueError("a slot operator reaches outside the six-node stencil of its point")
+        self.C = np.zeros((n, S, len(STENCIL)))
         np.add.at(self.C, (node, slot, p), coo.data)
 
-    def __call__(self, X: np.ndarray) -> np.ndarray:
-        """The slot vectors at every node, (MN, 7, 3)."""
-        return (self.L @ X).reshape(len(_SLOT_OPERATORS), self.n, 3).transpose(1, 0, 2)
+    def __call__(self, X: np.ndarray, offset: np.ndarray | None = None) -> np.ndarray:
+        """The slot vectors at every point, (MN, S, 3): ``L X`` plus the offset (``offset`` (S, MN, 3)
+        replaces the map's own, e.g. by the ghost rows of the rest shape)."""
+        v = (self.L @ X).reshape(self.S, self.n, 3).transpose(1, 0, 2)
+        off = self.offset if offset is None else offset.transpose(1, 0, 2)
+        return v if off is None else v + off
 
     def adjoint(self, p: np.ndarray) -> np.ndarray:
-        """The nodal vector (MN, 3) of slot covectors p (MN, 7, 3): L^T p."""
+        """The nodal vector (MN, 3) of slot covectors p (MN, S, 3): L^T p."""
         return self.L.T @ p.transpose(1, 0, 2).reshape(-1, 3)
 
-    def tensors(self, X: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-        """G and B of the slots at every node, (2, 2, M, N) each (zero rows where a difference is undefined)."""
-        G, B = slot_tensors(self(X), FD_SLOTS)
-        return G.reshape(2, 2, *shape), B.reshape(2, 2, *shape)
+    def tensors(self, X: np.ndarray, offset: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """G and B of the slots at every point, (2, 2, M, N) each (zero where a difference is undefined)."""
+        G, B = slot_tensors(self(X, offset), self.layout)
+        return G.reshape(2, 2, *self.shape), B.reshape(2, 2, *self.shape)
+
+    def element_matrices(self, H: np.ndarray) -> np.ndarray:
+        """Stencil blocks ``C^T H C`` (MN, 18, 18), index a 6 + p, from point Hessians H (MN, S, 3, S, 3)."""
+        Hc = H.transpose(0, 2, 4, 1, 3)  # (n, 3, 3, S, S)
+        He = np.swapaxes(self.C, 1, 2)[:, None, None] @ Hc @ self.C[:, None, None]  # (n, 3, 3, 6, 6)
+        return He.transpose(0, 1, 3, 2, 4).reshape(self.n, 18, 18)
 
 
 class DiscreteEnergy:
-    """Energy (13) of an FD node grid as a function of the positions (module docstring).
+    """Energy (13) of an FD node grid as a function of the positions: a sum of parts (module docstring).
 
     Parameters
     ----------
-    slots : SlotMap
-    eta, xi : arrays (2, 2, M, N)
-        Weights of eq. (13) times each component's row weight and the cell area (J per unit G^2, B^2).
-    G0, B0 : arrays (2, 2, M, N)
-        The rest tensors of the slots (:meth:`SlotMap.tensors` of the rest state, or the scene's overrides).
+    parts : sequence of (SlotMap, Integrand)
+        The points of each part, and eq. (13)'s integrand there (weights times the row weights and the
+        cell area, rest tensors of the same slots).
     """
 
-    def __init__(self, slots: SlotMap, eta: np.ndarray, xi: np.ndarray, G0: np.ndarray, B0: np.ndarray):
-        self.slots = slots
-        self.n = slots.n
-        self.integrand = Integrand(eta, xi, G0, B0, FD_SLOTS)
-        ldofs = np.concatenate([a * self.n + slots.stencil for a in range(3)], axis=1)  # (n, 18): index a 6 + p
+    def __init__(self, parts: Sequence[tuple[SlotMap, Integrand]]):
+        self.parts = list(parts)
+        self.n = n = self.parts[0][0].n
+        self._ldofs = np.concatenate([a * n + self.parts[0][0].stencil for a in range(3)], axis=1)  # a 6 + p
+        for slots, _ in self.parts:
+            if not np.array_equal(slots.stencil, self.parts[0][0].stencil):
+                raise ValueError("the parts of the FD energy must share the node stencils")
         self._pattern = None
-        self._ldofs = ldofs
 
     @property
     def pattern(self) -> SymmetricElements:
@@ -134,11 +167,12 @@ class DiscreteEnergy:
 
     def energy(self, X: np.ndarray) -> Energy:
         """(stretching, bending) parts of E (J)."""
-        return self.integrand.energy(self.slots(X))
+        parts = [w.energy(slots(X)) for slots, w in self.parts]
+        return Energy(sum(e.stretching for e in parts), sum(e.bending for e in parts))
 
     def gradient(self, X: np.ndarray) -> np.ndarray:
         """Exact gradient dE/dX, (ndof, 3) (N)."""
-        return self.slots.adjoint(self.integrand.gradient(self.slots(X)))
+        return sum(slots.adjoint(w.gradient(slots(X))) for slots, w in self.parts)
 
     def hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
         """Hessian (3 ndof, 3 ndof), coordinate-blocked, on a fixed pattern.
@@ -147,10 +181,6 @@ class DiscreteEnergy:
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
         or "projected" (:mod:`deformable.integrand`).
         """
-        H = self.integrand.hessian(self.slots(X), kind)  # (n, 7, 3, 7, 3)
-        C = self.slots.C  # (n, 7, 6)
-        Hc = H.transpose(0, 2, 4, 1, 3)  # (n, 3, 3, 7, 7)
-        He = np.swapaxes(C, 1, 2)[:, None, None] @ Hc @ C[:, None, None]  # (n, 3, 3, 6, 6)
-        He = He.transpose(0, 1, 3, 2, 4).reshape(self.n, 18, 18)
+        He = sum(slots.element_matrices(w.hessian(slots(X), kind)) for slots, w in self.parts)
         pat = self.pattern
         return pat.matrix(pat.collect(He[:, pat.upper[0], pat.upper[1]]))

@@ -15,8 +15,10 @@ where a forward difference would leave the grid (docs/design.md).
 Rows are integrated (the backend contract, :mod:`deformable.backend`): each
 row of the paper's pointwise equations stands for a cell area h1 h2, so
 M = h1 h2 diag(mu), C = h1 h2 diag(gamma), F = h1 h2 f at the node and
-K = h1 h2 K_paper. Mass, damping and loads are pointwise as in the paper. With
-``weighting="control-area"`` the
+K = h1 h2 K_paper. Mass, damping and loads are pointwise as in the paper
+(``weighting="pointwise"``, the default for tpbf87 and frozen). With
+``weighting="control-area"`` (the default for the variational model, for which
+the paper defines no FD) the
 mass, damping and body loads of edge nodes are weighted by 1/2 and of corners
 by 1/4 together, and so is every difference row of K by the share of its
 centre's control area that lies in the sheet (rows of D1+ and D11 on the edges
@@ -26,6 +28,19 @@ energy (13) and turns the natural-boundary rows into a consistent
 control-volume scheme: second order at free edges. Weighting only M, C and F
 is consistent in 1-D but not in 2-D, where the fluxes along an edge row would
 keep their full weight against a halved load.
+
+Clamps. Under the variational model a clamp holds the edge row and eliminates
+a ghost row outside it by the clamp's slope (:mod:`fdmodel.clamp`): second
+order. Under tpbf87 and frozen it holds the edge row and the next one (the
+clamped line moves by h: first order), because K(r) R = F has no place for the
+ghost's affine term.
+
+G and B. For tpbf87 and frozen, :meth:`FDModel.tensors` gives the paper's
+eq. (18)-(19) at the nodes (what alpha, beta and K use). For the variational
+model it gives those of its energy (:mod:`fdmodel.energy`: each term at the
+point where its stencil is centred), carried to the nodes: second order at
+every node, where eq. (18)-(19) are first order (G11 = D1+ r . D1+ r stands at
+(m + 1/2, n)).
 
 The strength matrix is :mod:`fdmodel.strength` (fixed-pattern assembly), the
 energy (13) with its derivatives :mod:`fdmodel.energy`.
@@ -39,23 +54,59 @@ import numpy as np
 import scipy.sparse as sp
 
 from deformable.backend import Energy, Sample, kinetic_energy
-from deformable.constraints import hold
-from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
-                                   require_strength_matrix)
+from deformable.constraints import Clamp, hold
+from deformable.elasticity import (
+    QuadraticEnergy,
+    alpha,
+    beta,
+    lagged_alpha_step,
+    require_energy_gradient,
+    require_strength_matrix,
+)
+from deformable.integrand import FD_SLOTS, FE_SLOTS, Integrand
 from deformable.loads import Loads
 from deformable.scene import Scene
 from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
 
+from .clamp import GhostRows
 from .energy import DiscreteEnergy, SlotMap
-from .operators import node_tensors, operators, tangents, valid_rows
+from .operators import (
+    cell_tangents,
+    central_tangents,
+    node_tensors,
+    operators,
+    tangents,
+    valid_rows,
+)
 from .strength import StrengthMatrix
 
-__all__ = ["FDModel", "WEIGHTINGS", "MEMBRANE_EIGENVALUE"]
+__all__ = ["MEMBRANE_EIGENVALUE", "WEIGHTINGS", "FDModel"]
 
 log = logging.getLogger(__name__)
 WEIGHTINGS = ("pointwise", "control-area")
 #: largest eigenvalue of D1+^T D1+ against the identity, times h^2: the stiffest membrane mode (4/h^2)
 MEMBRANE_EIGENVALUE = 4.0
+
+
+def _to_nodes(n: int) -> np.ndarray:
+    """(n, n - 1): values at the n - 1 midpoints of a row of n nodes to the nodes (mean inside, linear
+    extrapolation at the two ends; second order)."""
+    P = np.zeros((n, n - 1))
+    k = np.arange(1, n - 1)
+    P[k, k - 1] = P[k, k] = 0.5
+    P[0, :2] = P[-1, -2:][::-1] = (1.5, -0.5)
+    return P
+
+
+def _extend(n: int) -> np.ndarray:
+    """(n, n - 2): values at the n - 2 inner nodes of a row to all n (linear extrapolation at the ends)."""
+    E = np.zeros((n, n - 2))
+    E[1:-1] = np.eye(n - 2)
+    if n > 3:
+        E[0, :2] = E[-1, -2:][::-1] = (2.0, -1.0)
+    else:
+        E[0, 0] = E[-1, 0] = 1.0
+    return E
 
 
 class FDModel:
@@ -64,13 +115,17 @@ class FDModel:
     Parameters
     ----------
     scene : deformable.Scene
-    weighting : "pointwise" | "control-area"
+    weighting : "pointwise" | "control-area" | None
         Weighting of mass, damping, body loads and difference rows at edge nodes (module docstring).
+        None (the default): "control-area" for the variational model (the trapezoidal rule for its
+        energy; the paper defines no FD for it), the paper's "pointwise" for tpbf87 and frozen.
 
     State arrays X are (M N, 3), node (m, n) at row m N + n.
     """
 
-    def __init__(self, scene: Scene, weighting: str = "pointwise"):
+    def __init__(self, scene: Scene, weighting: str | None = None):
+        if weighting is None:
+            weighting = "control-area" if scene.force_model == "variational" else "pointwise"
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
         self.scene, self.weighting = scene, weighting
@@ -87,14 +142,20 @@ class FDModel:
         self.ops = operators(M, N, self.h1, self.h2)
         self._tangents = tangents(M, N, self.h1, self.h2)
         self.valid = valid_rows(M, N)
+        # the reflection clamp (ghost rows) where the force is an energy gradient; K(r) keeps two held rows
+        clamped = [e for c in scene.constraints if isinstance(c, Clamp) for e in c.edges]
+        self.ghost = GhostRows(sheet, clamped if scene.force_model == "variational" else ())
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
         w1, w2 = np.ones(M), np.ones(N)
         if weighting == "control-area":
             w1[[0, -1]] = w2[[0, -1]] = 0.5
         self.area_weight = np.outer(w1, w2)
-        # quadrature weight of each difference row (zero where the row is undefined)
+        # quadrature weight of each difference row (zero where the row is undefined); a ghost row's second
+        # difference stands for half a cell across its edge
         across = {"D1": w2[None, :], "D2": w1[:, None], "D11": w2[None, :], "D22": w1[:, None], "D12": 1.0}
         self.row_weight = {k: self.valid[k] * across[k] for k in self.valid}
+        for k, rows in self.ghost.rows.items():
+            self.row_weight[k] = np.where(rows, 0.5 * across[k], self.row_weight[k])
         self.mu = mat.field("mu", (M, N))
         self.gamma = mat.field("gamma", (M, N))
         self._M = sp.diags((area * self.mu * self.area_weight).ravel(), format="csr")
@@ -105,7 +166,8 @@ class FDModel:
         self.strength = StrengthMatrix(self.ops, self.row_weight, area,
                                        bending=bend is not None and bool(np.any(np.asarray(bend) != 0)))
         # rest state: discrete G0, B0 of the rest shape, or the scene's overrides
-        self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2, *self.tensors(self.discretize(sheet.rest)))
+        self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
+                                              *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
         if self.linear:
             self.alpha_fixed = mat.tensor("alpha", (M, N))
             self.beta_fixed = mat.tensor("beta", (M, N))
@@ -114,15 +176,58 @@ class FDModel:
         else:
             self.eta = mat.tensor("eta", (M, N))
             self.xi = mat.tensor("xi", (M, N))
-            rw = self.row_weight
-            stretch_rows = np.array([[rw["D1"], rw["D12"]], [rw["D12"], rw["D2"]]])
-            bend_rows = np.array([[rw["D11"], rw["D12"]], [rw["D12"], rw["D22"]]])
-            slots = SlotMap(self.ops, self._tangents, (M, N))
-            G0, B0 = scene.rest_tensors(self.a1, self.a2, *slots.tensors(self.discretize(sheet.rest), (M, N)))
-            self._energy = DiscreteEnergy(slots, area * stretch_rows * self.eta, area * bend_rows * self.xi, G0, B0)
+            self._energy = self._discrete_energy(area)
         self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
-                          clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=2)))
+                          clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=1 if self.ghost else 2)))
         self.loads = Loads(self)
+
+    def _discrete_energy(self, area: float) -> DiscreteEnergy:
+        """Eq. (13) as node and cell parts (:mod:`fdmodel.energy`), rest tensors from the rest shape's own slots.
+
+        Keeps the two slot maps (``_node_slots``, ``_cell_slots``) for :meth:`tensors` of the variational model.
+        """
+        M, N, sheet, rw = self.M, self.N, self.scene.sheet, self.row_weight
+        zero = np.zeros((M, N))
+        ops, T = self.ghost.operators(self.ops, central_tangents(M, N, self.h1, self.h2))
+        names = ("D1", "D2", "T1", "T2", "D11", "D12", "D22")
+        rows = [ops["D1"], ops["D2"], T[0], T[1], ops["D11"], ops["D12"], ops["D22"]]
+        offset = (lambda surface: self.ghost.offset(surface, names)) if self.ghost else (lambda surface: None)
+        self._node_slots = SlotMap(rows, (M, N), FD_SLOTS, offset(sheet.initial))
+        A1, A2 = cell_tangents(M, N, self.h1, self.h2)
+        Z = sp.csr_matrix((M * N, M * N))
+        # the points past the last row are no cells: unit tangents there keep their (unused) normal defined
+        beyond = np.zeros((5, M * N, 3))
+        outside = ~self.valid["D12"].ravel()
+        beyond[0, outside, 0] = beyond[1, outside, 1] = 1.0
+        self._cell_slots = SlotMap([A1, A2, Z, ops["D12"], Z], (M, N), FE_SLOTS, beyond)
+        shear = np.array([[zero, rw["D12"]], [rw["D12"], zero]])
+        parts = [(self._node_slots, offset(sheet.rest), np.array([[rw["D1"], zero], [zero, rw["D2"]]]),
+                  np.array([[rw["D11"], zero], [zero, rw["D22"]]]))]
+        if np.any(self.eta[0, 1] + self.eta[1, 0] != 0) or np.any(self.xi[0, 1] + self.xi[1, 0] != 0):
+            parts.append((self._cell_slots, None, shear, shear))
+        X_rest = self.discretize(sheet.rest)
+        out = []
+        for slots, rest_offset, eta_rows, xi_rows in parts:
+            G0, B0 = self.scene.rest_tensors(self.a1, self.a2, *slots.tensors(X_rest, rest_offset))
+            out.append((slots, Integrand(area * eta_rows * self.eta, area * xi_rows * self.xi, G0, B0, slots.layout)))
+        return DiscreteEnergy(out)
+
+    def _centred_tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """G and B of the variational energy, each at its centre, carried to the nodes (second order).
+
+        G11 (D1+ r . D1+ r) stands at the edge midpoints (m + 1/2, n), G22 at (m, n + 1/2), G12 and B12 at
+        the cell centres, B11 and B22 (central normal) at the interior nodes: the mean of the two (four)
+        neighbouring centres at a node, linear extrapolation from the nearest two onto the edges.
+        """
+        Gn, Bn = self._node_slots.tensors(X)
+        Gc, Bc = self._cell_slots.tensors(X)
+        P1, P2 = _to_nodes(self.M), _to_nodes(self.N)
+        E1, E2 = _extend(self.M), _extend(self.N)
+        G12 = P1 @ Gc[0, 1, :-1, :-1] @ P2.T
+        B12 = P1 @ Bc[0, 1, :-1, :-1] @ P2.T
+        G = np.array([[P1 @ Gn[0, 0, :-1], G12], [G12, Gn[1, 1, :, :-1] @ P2.T]])
+        B = np.array([[E1 @ Bn[0, 0, 1:-1, 1:-1] @ E2.T, B12], [B12, E1 @ Bn[1, 1, 1:-1, 1:-1] @ E2.T]])
+        return G, B
 
     # -- geometry -----------------------------------------------------------
     def grid(self, X: np.ndarray) -> np.ndarray:
@@ -138,14 +243,21 @@ class FDModel:
         return self.discretize(self.scene.sheet.initial)
 
     def tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """G (eq. 18) and B (eq. 19) at every node, two (2, 2, M, N) arrays."""
+        """G and B at every node, two (2, 2, M, N) arrays.
+
+        The paper's eq. (18) and (19) at the nodes for tpbf87 and frozen (forward differences: G11, G22
+        second order at the stencil centres, first order at the nodes); for the variational model those of
+        its energy, carried from their centres to the nodes (:meth:`_centred_tensors`, second order).
+        """
+        if self.scene.force_model == "variational":
+            return self._centred_tensors(X)
         return node_tensors(self.grid(X), self.h1, self.h2)
 
     def alpha_beta(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """alpha_ij and beta_ij of eq. (15)/(18)-(19) at the nodes, two (2, 2, M, N) arrays."""
         if self.linear:
             return self.alpha_fixed, self.beta_fixed
-        G, B = self.tensors(X)
+        G, B = node_tensors(self.grid(X), self.h1, self.h2)
         return alpha(self.eta, G, self.G0), beta(self.xi, B, self.B0)
 
     def sample(self, X: np.ndarray, a: np.ndarray) -> Sample:

@@ -17,7 +17,9 @@ functions (:func:`node_derivatives`, :func:`node_tensors`) give values at
 *every* node for reporting G and B, with one-sided differences where the rule
 would give zero. The tangents of the normal (:func:`tangents`) are forward
 differences, backward on the last row (docs/design.md: the normal at a node
-is a documented choice).
+is a documented choice); the energy-consistent model's normal takes central
+ones (:func:`central_tangents`), and its shear terms the mean tangents of a
+cell (:func:`cell_tangents`), where they are centred (:mod:`fdmodel.energy`).
 """
 
 from __future__ import annotations
@@ -27,8 +29,8 @@ import scipy.sparse as sp
 
 from deformable import tensors
 
-__all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "node_derivatives", "node_tensors",
-           "valid_rows"]
+__all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "central_tangents", "cell_tangents",
+           "node_derivatives", "node_tensors", "valid_rows"]
 
 
 def forward_1d(n: int, h: float) -> sp.csr_matrix:
@@ -64,6 +66,38 @@ def tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.cs
     """The sparse tangent operators T1, T2 (MN, MN): r_1, r_2 at every node as in :func:`node_derivatives`."""
     I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
     return sp.kron(tangent_1d(M, h1), I2, format="csr"), sp.kron(I1, tangent_1d(N, h2), format="csr")
+
+
+def _central_1d(n: int, h: float) -> sp.csr_matrix:
+    """(n, n) central first difference, forward on the first row and backward on the last."""
+    lower, upper = np.full(n - 1, -0.5 / h), np.full(n - 1, 0.5 / h)
+    main = np.zeros(n)
+    main[0], upper[0] = -1.0 / h, 1.0 / h
+    main[-1], lower[-1] = 1.0 / h, -1.0 / h
+    return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
+
+
+def _mean_1d(n: int) -> sp.csr_matrix:
+    """(n, n) mean of a node and the next, last row zero."""
+    main, upper = np.full(n, 0.5), np.full(n - 1, 0.5)
+    main[-1] = 0.0
+    return sp.diags([main, upper], [0, 1], shape=(n, n), format="csr")
+
+
+def central_tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Tangents at the nodes (MN, MN): central differences, one-sided on the first and last rows."""
+    I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
+    return sp.kron(_central_1d(M, h1), I2, format="csr"), sp.kron(I1, _central_1d(N, h2), format="csr")
+
+
+def cell_tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The mean tangents of the cell whose lower-left corner is each node (MN, MN), centred at the cell centre.
+
+    ``(D1+ r[m, n] + D1+ r[m, n + 1]) / 2`` and ``(D2+ r[m, n] + D2+ r[m + 1, n]) / 2``; zero rows where the
+    cell leaves the grid.
+    """
+    return (sp.kron(forward_1d(M, h1), _mean_1d(N), format="csr"),
+            sp.kron(_mean_1d(M), forward_1d(N, h2), format="csr"))
 
 
 def operators(M: int, N: int, h1: float, h2: float) -> dict[str, sp.csr_matrix]:

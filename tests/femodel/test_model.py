@@ -20,6 +20,7 @@ import pytest
 import scipy.sparse.linalg as spla
 
 import deformable as dm
+from deformable.sheet import Plane
 from femodel import ELEMENTS, FEModel
 from validation.harness.orders import fit_order
 from validation.studies.statics import navier_centre
@@ -74,12 +75,25 @@ def test_pins_by_predicate_or_corner_fix_values_only():
 
 
 def test_slide_and_clamp():
+    """A clamp of the flat sheet's left edge holds r and r_2 in every coordinate, r_1 and r_12 in z (the
+    clamp's normal) only: the in-plane stretch across the edge stays free."""
     model = flat_model("fe", nodes=(5, 4), constraints=[dm.Slide("top", "x"), dm.Clamp("left")])
     m = masks(top=(slice(None), -1), left=(0, slice(None)))
-    clamp = set().union(*(dofs(m["left"], k) for k in range(4)))
+    position = dofs(m["left"], 0) | dofs(m["left"], 2)
+    slope = dofs(m["left"], 1) | dofs(m["left"], 3)
     fx, fy, fz = (set(f.tolist()) for f in model.fixed_dofs())
-    assert fx == clamp
-    assert fy == fz == clamp | dofs(m["top"], 0) | dofs(m["top"], 1)
+    assert fx == position
+    assert fy == position | dofs(m["top"], 0) | dofs(m["top"], 1)
+    assert fz == position | slope | dofs(m["top"], 0) | dofs(m["top"], 1)
+
+
+def test_a_clamp_whose_normal_is_no_coordinate_axis_holds_the_whole_slope(caplog):
+    tilted = Plane(e1=(0.6, 0.0, 0.8), e2=(0.0, 1.0, 0.0))
+    model = FEModel(dm.Scene(dm.Sheet(nodes=(5, 4), rest=tilted), dm.Material(), constraints=[dm.Clamp("left")]))
+    left = masks(left=(0, slice(None)))["left"]
+    clamp = set().union(*(dofs(left, k) for k in range(4)))
+    assert all(set(f.tolist()) == clamp for f in model.fixed_dofs())
+    assert "not a coordinate axis" in caplog.text
 
 
 # -- bad input ----------------------------------------------------------------------------------

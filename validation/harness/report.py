@@ -6,21 +6,21 @@ For a :class:`~validation.harness.study.StudyResult` ``res`` and an output folde
 - ``summary.md``: description, configuration, the checks as PASS/FAIL against
   their stated expectations, the tables, the findings, the figures, and the
   closing line "N checks passed, M failed";
-- ``results.json``: every number (tables, checks, data), the resolved
-  configuration and package versions;
-- ``timings.json``: what changes from one run to the next though the
-  results do not: the wall time and when the report was written (so a
-  rerun with the same results leaves every other file unchanged);
-- ``<table>.csv`` for every table: numbers in full precision as plain
-  numerals (``0.125``, never ``np.float64(0.125)``), so ``pandas.read_csv``
-  reads numeric columns as numbers;
+- ``results.json``: every number (tables, checks, data) and the resolved
+  configuration;
+- ``run.md`` and ``run.json``: what depends on the run rather than on the code
+  (the wall time, package versions, the time of writing, and the study's
+  ``volatile`` tables and figures, e.g. CPU timings), so that running a study
+  again with the same code leaves summary.md, results.json and the CSVs as
+  they were;
+- ``<table>.csv`` for every table (full precision);
 - ``<figure>.png`` for every figure: log-log axes with labelled axes and
   units, a legend and dashed reference-slope lines (~50-100 KB each).
 
 Nothing is written half-way: the folder is built under a temporary name next
 to its destination and renamed into place only when complete.
 :func:`write_index` writes ``OUT/index.md`` linking every study folder found
-in OUT, with its pass/fail counts, and ``OUT/timings.md`` with their wall times.
+in OUT, with its pass/fail counts (the wall times are in each folder's run.md).
 """
 
 from __future__ import annotations
@@ -188,11 +188,27 @@ def plot(fig: Figure, path: Path) -> None:
     plt.close(f)
 
 
-def _summary(res: StudyResult, ver: dict) -> str:
+def _tables(tables) -> list[str]:
+    out = []
+    for t in tables:
+        out += [f"## {t.title}", ""]
+        if t.note:
+            out += [t.note, ""]
+        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+    return out
+
+
+def _figures(figures) -> list[str]:
+    out = ["## Figures", ""] if figures else []
+    for fig in figures:
+        out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+    return out
+
+
+def _summary(res: StudyResult) -> str:
     out = [f"# Study `{res.study}`", "", res.description, ""]
     out += ["## Configuration", "", "```json", json.dumps(_clean(res.config), indent=1, default=_json_default), "```",
-            "", "Package versions: " + ", ".join(f"{k} {v}" for k, v in ver.items())
-            + " (the wall time is in timings.json).", ""]
+            "", "Wall time, package versions and run-dependent measurements: [run.md](run.md).", ""]
     out += ["## Checks", ""]
     if res.checks:
         out.append(markdown_table(("result", "check", "expectation", "observed"),
@@ -201,18 +217,19 @@ def _summary(res: StudyResult, ver: dict) -> str:
     else:
         out.append("No checks.")
     out.append("")
-    for t in res.tables:
-        out += [f"## {t.title}", ""]
-        if t.note:
-            out += [t.note, ""]
-        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+    out += _tables([t for t in res.tables if not t.volatile])
     if res.findings:
         out += ["## Findings", ""] + [f"- {f}" for f in res.findings] + [""]
-    if res.figures:
-        out += ["## Figures", ""]
-        for fig in res.figures:
-            out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+    out += _figures([f for f in res.figures if not f.volatile])
     out.append(f"{res.passed} checks passed, {res.failed} failed")
+    return "\n".join(out) + "\n"
+
+
+def _run_page(res: StudyResult, ver: dict) -> str:
+    out = [f"# Study `{res.study}`: this run", "",
+           f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
+    out += _tables([t for t in res.tables if t.volatile])
+    out += _figures([f for f in res.figures if f.volatile])
     return "\n".join(out) + "\n"
 
 
@@ -224,13 +241,16 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=f".{res.study}-", dir=out))
     try:
         ver = versions()
-        (tmp / "summary.md").write_text(_summary(res, ver))
+        (tmp / "summary.md").write_text(_summary(res))
+        (tmp / "run.md").write_text(_run_page(res, ver))
         payload = res.to_dict()
-        payload["versions"] = ver
+        volatile = {t.name for t in res.tables if t.volatile}
+        run = {"wall_time": res.wall_time, "versions": ver,
+               "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+               "tables": [t for t in payload["tables"] if t["name"] in volatile]}
+        payload["tables"] = [t for t in payload["tables"] if t["name"] not in volatile]
         (tmp / "results.json").write_text(json.dumps(_clean(payload), indent=1, default=_json_default))
-        timings = {"study": res.study, "wall_time": res.wall_time,
-                   "written": datetime.now(timezone.utc).isoformat(timespec="seconds")}
-        (tmp / "timings.json").write_text(json.dumps(timings, indent=1) + "\n")
+        (tmp / "run.json").write_text(json.dumps(_clean(run), indent=1, default=_json_default))
         for t in res.tables:
             (tmp / f"{t.name}.csv").write_text(_csv(t))
         for fig in res.figures:
@@ -260,7 +280,7 @@ def write_index(out: str | os.PathLike, order=()) -> Path:
     """
     out = Path(out)
     order = {name: k for k, name in enumerate(order)}
-    rows, times = [], []
+    rows = []
     folders = [p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")]
     for d in sorted(folders, key=lambda p: (order.get(p.name, len(order)), p.name)):
         f = d / "results.json"
@@ -269,20 +289,13 @@ def write_index(out: str | os.PathLike, order=()) -> Path:
         r = json.loads(f.read_text())
         rows.append((f"[{r['study']}]({d.name}/summary.md)", r.get("description", ""), r.get("passed", 0),
                      r.get("failed", 0), r.get("config", {}).get("levels", "")))
-        t = json.loads((d / "timings.json").read_text()) if (d / "timings.json").exists() else {}
-        times.append((r["study"], f"{t['wall_time']:.1f}" if "wall_time" in t else "", t.get("written", "")))
     passed = sum(r[2] for r in rows)
     failed = sum(r[3] for r in rows)
     text = ["# Validation reports", "",
             "Generated by `deformable validate`; each study folder holds summary.md, results.json, CSV tables "
-            "and PNG plots. Wall times are in [timings.md](timings.md).", "",
+            "and PNG plots; wall times and other run-dependent measurements are in each folder's run.md.", "",
             markdown_table(("study", "what it measures", "passed", "failed", "levels"), rows), "",
             f"{passed} checks passed, {failed} failed", ""]
     path = out / "index.md"
     path.write_text("\n".join(text))
-    (out / "timings.md").write_text("\n".join([
-        "# Wall times of the last `deformable validate` runs", "",
-        "Run-dependent (the machine, its load): kept apart from the reports so that a rerun with the same "
-        "results leaves them unchanged.", "",
-        markdown_table(("study", "wall time (s)", "written (UTC)"), times), ""]))
     return path

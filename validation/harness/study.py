@@ -58,7 +58,9 @@ class Table:
     """A table of the report: written as markdown in summary.md and as ``<name>.csv``.
 
     ``rows`` hold numbers (written with full precision in the CSV, rounded in
-    markdown) or strings.
+    markdown) or strings. A ``volatile`` table holds what depends on the run
+    (timings): it goes to run.md, so that the committed summary.md does not
+    change when a study runs again.
     """
 
     name: str
@@ -66,6 +68,7 @@ class Table:
     columns: tuple[str, ...]
     rows: tuple[tuple, ...]
     note: str = ""
+    volatile: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "columns", tuple(self.columns))
@@ -106,13 +109,15 @@ class Figure:
     """A PNG of the report, ``<name>.png``: one or more panels side by side.
 
     ``image``, when given, is a PNG the study drew itself (a render, a map):
-    the report writer stores those bytes instead of plotting ``panels``.
+    the report writer stores those bytes instead of plotting ``panels``. A
+    ``volatile`` figure shows what depends on the run (timings): run.md.
     """
 
     name: str
     caption: str
     panels: tuple[Panel, ...] = ()
     image: bytes | None = field(default=None, repr=False)
+    volatile: bool = False
 
 
 @dataclass

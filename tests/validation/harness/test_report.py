@@ -25,7 +25,7 @@ def synthetic():
 
 def test_files_exist_tables_parse_and_counts_are_right(tmp_path):
     folder = write_study(synthetic(), tmp_path)
-    for name in ("summary.md", "results.json", "numbers.csv", "conv.png"):
+    for name in ("summary.md", "results.json", "run.md", "run.json", "numbers.csv", "conv.png"):
         assert (folder / name).is_file(), name
     summary = (folder / "summary.md").read_text()
     assert summary.rstrip().endswith("2 checks passed, 1 failed")
@@ -36,13 +36,14 @@ def test_files_exist_tables_parse_and_counts_are_right(tmp_path):
     assert float(rows[2][2]) == 2.5e-3 and rows[3][2] == ""
     data = json.loads((folder / "results.json").read_text())
     assert data["passed"] == 2 and data["failed"] == 1 and data["config"] == {"levels": 3}
-    assert "numpy" in data["versions"] and data["tables"][0]["rows"][2][2] is None
+    assert "numpy" in json.loads((folder / "run.json").read_text())["versions"]
+    assert data["tables"][0]["rows"][2][2] is None and "versions" not in data and "wall_time" not in data
     assert 5_000 < (folder / "conv.png").stat().st_size < 200_000
     index = write_index(tmp_path).read_text()
     assert "[demo](demo/summary.md)" in index and "2 checks passed, 1 failed" in index
 
 
-def test_csvs_are_numeric_and_a_rerun_with_the_same_results_changes_only_the_timings(tmp_path):
+def test_csvs_are_numeric_and_a_rerun_with_the_same_results_changes_only_the_run_files(tmp_path):
     import numpy as np
     import pandas as pd
 
@@ -61,10 +62,25 @@ def test_csvs_are_numeric_and_a_rerun_with_the_same_results_changes_only_the_tim
     write_study(res, tmp_path)
     after = {p.name: p.read_bytes() for p in folder.iterdir()}
     assert sorted(before) == sorted(after)
-    assert [name for name in before if before[name] != after[name]] == ["timings.json"]
-    assert json.loads(after["timings.json"])["wall_time"] == 7.25
+    assert sorted(name for name in before if before[name] != after[name]) == ["run.json", "run.md"]
+    assert json.loads(after["run.json"])["wall_time"] == 7.25
     write_index(tmp_path)
-    assert "7.2" in (tmp_path / "timings.md").read_text() and "7.2" not in (tmp_path / "index.md").read_text()
+    assert "7.2" not in (tmp_path / "index.md").read_text()
+
+
+def test_run_dependent_tables_go_to_run_md_and_a_rerun_leaves_the_summary_as_it_was(tmp_path):
+    res = synthetic()
+    res.tables.append(Table("timings", "CPU times", ("solve", "CPU (s)"), [("a", 0.25)], volatile=True))
+    res.wall_time = 1.0
+    folder = write_study(res, tmp_path)
+    first = {name: (folder / name).read_bytes() for name in ("summary.md", "results.json", "numbers.csv")}
+    assert "CPU times" not in first["summary.md"].decode() and b"timings" not in first["results.json"]
+    assert "CPU times" in (folder / "run.md").read_text() and (folder / "timings.csv").is_file()
+    assert json.loads((folder / "run.json").read_text())["tables"][0]["name"] == "timings"
+    res.wall_time = 2.0
+    write_study(res, tmp_path)
+    assert all((folder / name).read_bytes() == text for name, text in first.items())
+    assert "Wall time 2.0 s" in (folder / "run.md").read_text()
 
 
 def test_nothing_is_written_half_way(tmp_path):
