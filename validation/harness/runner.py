@@ -30,10 +30,11 @@ Determinism. A case is computed by the same code on the same inputs wherever
 it runs, so the numbers are bit-identical serially, on the pool and on Dask
 workers of the same machine (tests/validation/harness/test_runner.py). The
 one thing that could differ between processes is the number of BLAS / MKL
-threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``),
-and the results here were measured identical with 1 and 2 threads (SuperLU
-is single-threaded; PARDISO's factorisations at 64 x 64 nodes gave the same
-bits), so nothing is pinned in this process.
+threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``).
+SuperLU is single-threaded, and PARDISO runs in MKL's conditional numerical
+reproducibility mode (:mod:`deformable.linalg`): without it a factorisation
+on one MKL thread differs in the last bits from one on two (FE 6 x 6 nodes),
+so nothing is pinned in this process.
 
 Progress (``progress=True``): cases done out of all, the time elapsed and an
 estimate of the time left (the mean time per finished case times the cases
