@@ -153,6 +153,15 @@ def test_a_case_has_the_same_bits_whatever_ran_before_it_and_on_any_number_of_mk
     assert without_wall(json.loads(fresh.stdout)) == reference, "a fresh process on one thread differs"
 
 
+def test_a_local_cluster_leaves_the_environment_of_this_process_as_it_was():
+    """Dask sets its workers' environment (OMP_NUM_THREADS=1, PYTHONHASHSEED, ...) in this process to spawn them."""
+    before = dict(os.environ)
+    with Runner(scheduler="local:1") as runner:
+        assert dict(os.environ) == before
+        assert runner.map(environment, ["OMP_NUM_THREADS"]) == ["1"]  # the worker's own
+    assert dict(os.environ) == before
+
+
 # -- bad input -----------------------------------------------------------------------
 @pytest.mark.parametrize("spec, expected", [
     ("local:3", ("local", 3)),
