@@ -32,6 +32,7 @@ solve, SuperLU faster up to about 4 000 unknowns, 20 000 entries).
 
 from __future__ import annotations
 
+import ctypes
 import os
 
 import numpy as np
@@ -50,6 +51,8 @@ SPLU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", options=dict(SymmetricMode=True)
 SOLVERS = ("auto", "superlu", "pardiso")
 #: "auto" takes PARDISO (where installed) for matrices with at least this many stored entries
 PARDISO_FROM = 20_000
+#: PARDISO's iparm[33] (reproducibility): the same bits on any number of MKL threads, those of this many
+PARDISO_CNR_THREADS = 4
 
 
 class SingularMatrix(ArithmeticError):
@@ -111,7 +114,13 @@ class Pardiso:
         import pypardiso
 
         self.definite = definite
-        self._solver = pypardiso.PyPardisoSolver(mtype=2 if definite else -2)  # MKL's defaults: METIS ordering
+        self._solver = s = pypardiso.PyPardisoSolver(mtype=2 if definite else -2)
+        # MKL's defaults, but bit-identical whatever the number of MKL threads (fixed when MKL starts, from
+        # OMP_NUM_THREADS / MKL_NUM_THREADS: 1 on Dask's workers): conditional numerical reproducibility
+        # (iparm[33] > 0) with the sequential METIS ordering (iparm[1] = 2; the parallel one rules CNR out)
+        s.libmkl.pardisoinit(s.pt.ctypes.data_as(ctypes.c_void_p), ctypes.byref(ctypes.c_int32(s.mtype)),
+                             s.iparm.ctypes.data_as(ctypes.c_void_p))
+        s.iparm[1], s.iparm[33] = 2, PARDISO_CNR_THREADS
         self._pattern = None
         self._upper = None
 

@@ -30,10 +30,13 @@ Determinism. A case is computed by the same code on the same inputs wherever
 it runs, so the numbers are bit-identical serially, on the pool and on Dask
 workers of the same machine (tests/validation/harness/test_runner.py). The
 one thing that could differ between processes is the number of BLAS / MKL
-threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``),
-and the results here were measured identical with 1 and 2 threads (SuperLU
-is single-threaded; PARDISO's factorisations at 64 x 64 nodes gave the same
-bits), so nothing is pinned in this process.
+threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``).
+SuperLU is single-threaded, and PARDISO runs in MKL's conditional numerical
+reproducibility mode (:mod:`deformable.linalg`): without it a factorisation
+on one MKL thread differs in the last bits from one on two (FE 6 x 6 nodes),
+so nothing is pinned in this process. Dask sets its workers' variables
+(``OMP_NUM_THREADS=1``, ``PYTHONHASHSEED``, ...) in this process to spawn
+them; the runner sets this process's environment back.
 
 Progress (``progress=True``): cases done out of all, the time elapsed and an
 estimate of the time left (the mean time per finished case times the cases
@@ -104,6 +107,13 @@ def _end_with_parent(parent: int | None) -> None:
     ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # 1 = PR_SET_PDEATHSIG
     if parent is not None and os.getppid() != parent:
         os._exit(1)
+
+
+def _restore_environ(saved: dict) -> None:
+    """Set os.environ back to ``saved``: Dask's nanny sets its workers' variables here to spawn them, and leaves them."""
+    for name in os.environ.keys() - saved.keys():
+        del os.environ[name]
+    os.environ.update({name: value for name, value in saved.items() if os.environ.get(name) != value})
 
 
 def duration(seconds: float) -> str:
@@ -187,7 +197,7 @@ class Runner:
                 raise ValueError("give either --jobs (a local process pool) or --scheduler (Dask), not both")
             self.scheduler = parse_scheduler(scheduler)
             _distributed()
-        self._pool = self._client = self._cluster = None
+        self._pool = self._client = self._cluster = self._environ = None
 
     # -- lifetime ---------------------------------------------------------------
     def __enter__(self):
@@ -220,6 +230,7 @@ class Runner:
         if self._cluster is not None:
             self._cluster.close()
             self._cluster = None
+            _restore_environ(self._environ)  # a worker restarted since set them again
 
     def _connect(self, kind: str, where) -> None:
         distributed = _distributed()
@@ -231,9 +242,11 @@ class Runner:
             # Dask's workers get MALLOC_TRIM_THRESHOLD_=65536 (give freed memory back to the system at once),
             # which costs these allocation-heavy cases about 10 % (measured: FD 24 x 24, 2000 steps, 3.1 s
             # against 3.45 s); None unsets it, so glibc's own adaptive thresholds apply
+            self._environ = dict(os.environ)
             with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
                 self._cluster = distributed.LocalCluster(n_workers=where, threads_per_worker=1, processes=True,
                                                          dashboard_address=None, silence_logs=logging.ERROR)
+            _restore_environ(self._environ)
             self._client = distributed.Client(self._cluster)
             return
         try:

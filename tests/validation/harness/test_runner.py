@@ -9,6 +9,8 @@ import contextlib
 import io
 import json
 import os
+import pickle
+import subprocess
 import sys
 
 import distributed
@@ -115,6 +117,49 @@ def test_local_workers_are_two_of_one_thread_each_with_one_blas_thread_and_no_ma
         assert set(client.nthreads().values()) == {1} and len(client.nthreads()) == 2
         for name, value in (("MKL_NUM_THREADS", "1"), ("OPENBLAS_NUM_THREADS", "1"), ("MALLOC_TRIM_THRESHOLD_", None)):
             assert set(client.run(environment, name).values()) == {value}, name
+
+
+@contextlib.contextmanager
+def mkl_threads(n: int):
+    """MKL computes on n threads in this thread, as if it had started with MKL_NUM_THREADS=n (where it is installed)."""
+    try:
+        import pypardiso
+    except ImportError:
+        yield
+        return
+    previous = pypardiso.ps.libmkl.MKL_Set_Num_Threads_Local(n)
+    try:
+        yield
+    finally:
+        pypardiso.ps.libmkl.MKL_Set_Num_Threads_Local(previous)
+
+
+def test_a_case_has_the_same_bits_whatever_ran_before_it_and_on_any_number_of_mkl_threads():
+    """MKL fixes its thread count when it starts, from OMP_NUM_THREADS / MKL_NUM_THREADS: 1 on Dask's workers, and
+    in a process that first used it after a LocalCluster had set them (Dask sets them in the parent to spawn its
+    workers); so PARDISO's factorisations (the Newton matrix of FE 6 x 6 nodes is big enough) must not depend on it."""
+    first, *others = [c for c in tiny_sweep().cases() if c.backend == "fe" and dict(c.fields)["mu"] > 0]
+    with mkl_threads(2):
+        reference = without_wall(run_case(first))
+    for case in others:
+        run_case(case)
+    with mkl_threads(1):
+        assert without_wall(run_case(first)) == reference, "the rerun on one MKL thread differs"
+    code = "import json, pickle, sys; from validation.harness.sweep import run_case; " \
+           "print(json.dumps(run_case(pickle.load(sys.stdin.buffer))))"
+    env = dict(os.environ, OMP_NUM_THREADS="1", MKL_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")  # a Dask worker's
+    fresh = subprocess.run([sys.executable, "-c", code], input=pickle.dumps(first), capture_output=True, env=env,
+                           check=True)
+    assert without_wall(json.loads(fresh.stdout)) == reference, "a fresh process on one thread differs"
+
+
+def test_a_local_cluster_leaves_the_environment_of_this_process_as_it_was():
+    """Dask sets its workers' environment (OMP_NUM_THREADS=1, PYTHONHASHSEED, ...) in this process to spawn them."""
+    before = dict(os.environ)
+    with Runner(scheduler="local:1") as runner:
+        assert dict(os.environ) == before
+        assert runner.map(environment, ["OMP_NUM_THREADS"]) == ["1"]  # the worker's own
+    assert dict(os.environ) == before
 
 
 # -- bad input -----------------------------------------------------------------------
