@@ -96,6 +96,20 @@ def test_read_back(out):
     png(out / "read_back.png")
 
 
+@pytest.mark.slow
+def test_read_back_without_pyvista(out, tmp_path):
+    hidden = tmp_path / "hide"  # a pyvista package that fails to import, first on the path
+    (hidden / "pyvista").mkdir(parents=True)
+    (hidden / "pyvista" / "__init__.py").write_text("raise ImportError('pyvista hidden by the test')\n")
+    path = os.pathsep.join(filter(None, [str(hidden), os.environ.get("PYTHONPATH")]))
+    text = run_example("read_back", out, env={"PYTHONPATH": path})
+    assert [line for line in text.splitlines() if line.startswith("pyvista")] == \
+        ["pyvista: not installed, skipping its part (pip install pyvista)"]
+    assert number(r"meshio: (\d+) frames", text) == 21
+    png(out / "read_back.png")
+    assert not (out / "read_back_pyvista.png").exists()
+
+
 def test_convergence(out):
     text = run_example("convergence", out)
     theory = {"FD G": 1, "FD B": 1, "FE G": 3, "FE B": 2}
