@@ -639,7 +639,7 @@ def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneCon
     for key in data:
         if key not in known:
             raise ValueError(f"unknown key {key!r} in scene file {source!r}; known keys: {', '.join(sorted(known))}")
-    return spec.config(**data, **overrides)
+    return spec.config(**{**data, **overrides})  # the command line wins over the file
 
 
 def _toml_value(value) -> str:

@@ -120,6 +120,8 @@ def test_toml_overrides_a_named_scene_and_round_trips(tmp_path):
     again.write_text(scenes.to_toml(cfg))
     assert scenes.read_toml(again) == cfg
     assert scenes.build(cfg).sheet.nodes == (20, 24)
+    # overrides (the command line's values) win over the file's, also for a key the file sets
+    assert scenes.read_toml(path, nodes=(6, 5), dt=0.01).nodes == (6, 5)
 
 
 @pytest.mark.parametrize("text, message", [
