@@ -16,6 +16,8 @@ from .constraints import Clamp, Pin, Slide, select
 from .dynamics import (SCHEMES, Callback, DivergenceError, DivergenceGuard, EnergyMonitor, ProgressBar, RunResult,
                        StalledError, State, Stop, TimeStepper, Tracker)
 from .equilibrium import equilibrium
+from .errors import (CheckpointError, DeformableError, InputError, NumericalError, OutputFolderError, ResourceError,
+                     WriteError)
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .material import Material
 from .newton import ConvergenceError
@@ -31,4 +33,6 @@ __all__ = [
     "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
+    "DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
+    "NumericalError",
 ]

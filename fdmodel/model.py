@@ -43,6 +43,7 @@ from deformable.constraints import hold
 from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
                                    require_strength_matrix)
 from deformable.loads import Loads
+from deformable.resources import check_scene
 from deformable.scene import Scene
 from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
 
@@ -71,6 +72,7 @@ class FDModel:
     """
 
     def __init__(self, scene: Scene, weighting: str = "pointwise"):
+        check_scene(scene, "fd")  # a Scene whose grid fits in memory, before anything is allocated
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
         self.scene, self.weighting = scene, weighting

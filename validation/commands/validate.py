@@ -16,6 +16,7 @@ import logging
 import sys
 import time
 
+from deformable.errors import InputError
 from validation.harness.report import writable_folder, write_index, write_study
 from validation.harness.runner import Runner
 from validation.studies import STUDIES, get_study
@@ -57,7 +58,7 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
     if surfaces is not None:
         surfaces = [s.strip() for s in surfaces.split(",")] if isinstance(surfaces, str) else list(surfaces)
         if not surfaces or not all(surfaces):
-            raise ValueError("--surfaces needs at least one surface name")
+            raise InputError("--surfaces needs at least one surface name")
         for s in surfaces:
             sf.get(s)
     writable_folder(out)
