@@ -21,6 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["render_series", "render_frame", "FIELDS"]
 
 log = logging.getLogger(__name__)
@@ -105,7 +107,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
         The PNG files written (and the GIF last, if made).
     """
     if field not in FIELDS:
-        raise ValueError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
+        raise InputError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
     pv = _pyvista()
     cells, frames = read_series(xdmf)
     if not frames:
