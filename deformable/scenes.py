@@ -113,7 +113,7 @@ from .sheet import Plane, Sheet
 
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
-    "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml",
+    "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml", "run_table",
     "equivalent_weights", "fold_wavelength", "smooth_ramp", "FoldNoise",
 ]
 
@@ -658,6 +658,9 @@ def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneCon
     if "scene" not in data:
         raise InputError(f"scene file {source!r} must name its scene, e.g. scene = \"curtain\"")
     name = data.pop("scene")
+    table = data.pop("run", None)  # the command's settings (run_table), not scene fields
+    if table is not None and not isinstance(table, dict):
+        raise InputError(f"scene file {source!r}: run must be a table [run], got {table!r}")
     if not isinstance(name, str):
         raise InputError(f"scene file {source!r}: scene must be a name, got {name!r}")
     spec = SCENES.get(name)
@@ -667,7 +670,21 @@ def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneCon
     for key in data:
         if key not in known:
             raise InputError(f"unknown key {key!r} in scene file {source!r}; known keys: {', '.join(sorted(known))}")
-    return spec.config(**data, **overrides)
+    return spec.config(**{**data, **overrides})
+
+
+def run_table(text: str, source: str = "<string>") -> dict:
+    """The ``[run]`` table of a resolved config (backend, scheme, version, ...; empty when there is none).
+
+    :func:`to_toml` writes it with ``run=``; the scene readers skip it, ``deformable run`` reads it.
+    """
+    try:
+        table = tomllib.loads(text).get("run", {})
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"scene file {source!r} is not valid TOML: {err}") from None
+    if not isinstance(table, dict):
+        raise InputError(f"scene file {source!r}: run must be a table [run], got {table!r}")
+    return table
 
 
 def _toml_value(value) -> str:
@@ -680,9 +697,15 @@ def _toml_value(value) -> str:
     return str(value)
 
 
-def to_toml(cfg: SceneConfig) -> str:
-    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config."""
+def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
+    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config.
+
+    ``run``: settings that are not scene fields (backend, scheme, package version, ...), written as a
+    ``[run]`` table after the fields (:func:`run_table` reads it back).
+    """
     lines = [f"# resolved scene config ({SCENES[cfg.scene].summary})"]
     for f in fields(cfg):
         lines.append(f"{f.name} = {_toml_value(getattr(cfg, f.name))}")
+    if run:
+        lines += ["", "[run]"] + [f"{k} = {_toml_value(v)}" for k, v in run.items() if v is not None]
     return "\n".join(lines) + "\n"
