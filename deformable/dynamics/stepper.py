@@ -306,6 +306,24 @@ class TimeStepper:
         full, last = self._plan(state, t_end)
         return full + int(last)
 
+    def length(self, t: float, *, t_end: float | None = None, steps: int | None = None) -> int:
+        """The steps a run from time ``t`` takes (the requested ones of an adaptive run), checked.
+
+        Exactly one of ``t_end`` and ``steps``; InputError for a bad value, ResourceError beyond
+        :attr:`max_steps`. :meth:`run` calls it first; a caller can check a run before it writes anything.
+        """
+        if (t_end is None) == (steps is None):
+            raise InputError("give exactly one of t_end and steps")
+        if steps is None:  # checks t_end; every scheme ends on it exactly
+            expected = self._steps_to(State(t=real("t", t), X=None, V=None), t_end)
+        else:
+            expected = count("steps", steps, minimum=0)
+        if self.max_steps is not None and expected > self.max_steps:
+            raise ResourceError(f"a run of {expected:,} steps exceeds the cap of {self.max_steps:,} steps "
+                                "(TimeStepper.max_steps; set it to None to lift the cap)", field="steps",
+                                value=expected)
+        return expected
+
     # -- a controlled run ---------------------------------------------------
     def run(
         self,
@@ -330,16 +348,9 @@ class TimeStepper:
         if resume is not None:
             state = self._resume(resume)
         first = state.step
-        if (t_end is None) == (steps is None):
-            raise InputError("give exactly one of t_end and steps")
-        if steps is None:
-            expected = self._steps_to(state, t_end)  # checks t_end; every scheme ends on it exactly
-        else:
-            steps = expected = count("steps", steps, minimum=0)
-        if self.max_steps is not None and expected > self.max_steps:
-            raise ResourceError(f"a run of {expected:,} steps exceeds the cap of {self.max_steps:,} steps "
-                                "(TimeStepper.max_steps; set it to None to lift the cap)", field="steps",
-                                value=expected)
+        expected = self.length(state.t, t_end=t_end, steps=steps)
+        if steps is not None:
+            steps = expected
         if isinstance(trackers, Tracker) or not isinstance(trackers, (list, tuple)):
             raise InputError(f"trackers must be a list of trackers, got {trackers!r}", field="trackers",
                              value=trackers)

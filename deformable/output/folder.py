@@ -26,6 +26,7 @@ import socket
 from pathlib import Path
 
 from ..errors import OutputFolderError, WriteError
+from ..resources import existing
 
 __all__ = ["LOCK", "RunFolder", "inspect", "is_result", "fresh", "write_text"]
 
@@ -134,9 +135,7 @@ class RunFolder:
         Reads only; nothing is written.
         """
         path = self.path
-        parent = path
-        while not parent.exists() and parent != parent.parent:
-            parent = parent.parent
+        parent = existing(path)
         if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
             why = "is a file" if parent == path else f"{str(parent)!r} is not a writable folder"
             raise OutputFolderError(f"cannot write to output folder {str(path)!r}: {why}", field="out",

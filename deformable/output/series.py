@@ -36,9 +36,11 @@ B, so the writer serves the FD and the FE backend alike.
 
 The .xdmf (XML) file is rewritten, and the HDF5 file flushed, after every
 frame, so a run that is killed keeps every frame written before. The folder
-is created as needed. A failed write (disk full, file-size limit) raises
-:class:`~deformable.errors.WriteError` naming the file; the frames written
-before stay readable.
+is created as needed. A frame that would not fit (the free disk space, or the
+file-size limit of ``ulimit -f``) is refused before HDF5 writes any of it, and
+a failed write raises :class:`~deformable.errors.WriteError` naming the file;
+the frames written before stay readable. (HDF5 cannot recover from a write that
+fails half-way: the process would crash when the file is closed.)
 (meshio's own TimeSeriesWriter writes the XML only on exit, and puts the .h5
 file in the working directory; this writer fixes both.)
 """
@@ -56,6 +58,7 @@ from ..dynamics.trackers import Tracker
 from ..elasticity import energy_density
 from ..checks import count, real
 from ..errors import InputError, WriteError
+from ..resources import DATASET_BYTES, check_room
 
 __all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time"]
 
@@ -243,6 +246,11 @@ class XDMFWriter(Tracker):
 
     def _frame(self, state, kind: str):
         name = f"step{state.step}"
+        P = self.fields.positions(state.X)
+        data = self.fields(state.X, state.V)
+        data["displacement"] = P - self.P0
+        need = P.nbytes + sum(np.asarray(v).nbytes for v in data.values()) + DATASET_BYTES * (len(data) + 2)
+        check_room(self.h5_path, need + (0 if self._mesh_name is not None else self.fields.cells.size * 8))
         grid = ET.SubElement(self._series, "Grid", Name=name, GridType="Uniform")
         try:
             if self._mesh_name is None:  # the first frame holds the topology, the others include it
@@ -255,11 +263,8 @@ class XDMFWriter(Tracker):
                               xpointer=f'xpointer(//Grid[@Name="{self._mesh_name}"]/*[self::Topology])')
             ET.SubElement(grid, "Time", Value=repr(frame_time(state.t)))
             ET.SubElement(grid, "Information", Name="frame", Value=kind)
-            P = self.fields.positions(state.X)
             geo = ET.SubElement(grid, "Geometry", GeometryType="XYZ")
             self._data_item(geo, P)
-            data = self.fields(state.X, state.V)
-            data["displacement"] = P - self.P0
             for field, values in data.items():
                 rank = "Vector" if values.ndim == 2 else "Scalar"
                 att = ET.SubElement(grid, "Attribute", Name=field, AttributeType=rank, Center="Node")

@@ -65,6 +65,8 @@ def build_parser() -> argparse.ArgumentParser:
             p.set_defaults(_execute=_missing(name))
             continue
         mod.configure(p)
+        p.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+                       help="print only errors and warnings: no progress bars, no summary (default: off)")
         p.set_defaults(_execute=mod.execute)
     return parser
 

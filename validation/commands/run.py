@@ -72,6 +72,7 @@ from deformable.errors import InputError
 from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
 from deformable.output.folder import RunFolder, fresh, write_text
 from deformable.output.render import FIELDS, render_series
+from deformable.resources import check_series
 from deformable.scene import FORCE_MODELS
 from validation.harness.backends import BACKENDS, make_model
 
@@ -309,13 +310,16 @@ def prepare(args) -> Run:
                          f"t = {t_end:.6g} s", field="--t-end", value=t_end)
         cfg = cfg.replace(t_end=t_end)
         run.steps, run.t_end = None, t_end
-    run.every = every if every is not None else float(table.get("every", DEFAULT_EVERY))
+    stepper.length(t_now, steps=run.steps, t_end=run.t_end)  # a bad length or one beyond the cap, before any work
+    run.every = every if every is not None else _positive("every", table.get("every", DEFAULT_EVERY))
     run.ck_every = ck_every
     run.render, run.field = args.render, args.field
     run.config, run.scene, run.model, run.stepper, run.X0, run.backend = cfg, scene, model, stepper, X0, backend
     run.settings = dict(backend=backend, scheme=stepper.scheme, steps=steps, every=run.every,
                         version=deformable.__version__)
     _folder(run, args, checkpoint)
+    span = (run.t_end - t_now) if run.t_end is not None else run.steps * cfg.dt  # adaptive steps are at most dt
+    check_series(run.out / f"{cfg.scene}.xdmf", cfg.nodes, int(math.ceil(span / run.every)) + 2)
     return run
 
 
