@@ -338,3 +338,9 @@ def test_two_runs_into_one_folder_one_refused_even_without_hdf5_locking(tmp_path
     with meshio.xdmf.TimeSeriesReader(str(out / "curtain.xdmf")) as reader:
         reader.read_points_cells()
         assert reader.read_data(reader.num_steps - 1)[0] == pytest.approx(400 * ck.dt)
+
+
+def test_a_level_count_whose_checks_cannot_pass_is_refused(tmp_path, capsys):
+    """The issue: ``validate tensors --levels 3`` was accepted and reported a failed order window."""
+    code, _, err = _run(["validate", "tensors", "--levels", "3", "--out", tmp_path], capsys)
+    _refused(code, err, "study 'tensors' runs 4 to 8 levels, got 3")

@@ -243,3 +243,105 @@ def test_a_bad_value_is_an_input_error_naming_it(case):
         call()
     assert message in str(info.value)
     assert isinstance(info.value, ValueError) and len(str(info.value).splitlines()) == 1
+
+
+def _model(backend, **scene):
+    return flat_model(backend, nodes=(5, 5), **scene)
+
+
+def _start(backend, steps=1, force_model="tpbf87", **kw):
+    model = _model(backend, force_model=force_model)
+    X0 = kw.pop("X0", model.initial_state())
+    if callable(X0):
+        X0 = X0(model)
+    return dm.TimeStepper(model, 1e-3).run(X0, steps=steps, **kw)
+
+
+def _shaped(fill, rows=None):
+    return lambda model: np.full((model.ndof if rows is None else rows, 3), fill)
+
+
+#: cases run on both backends: (call(backend), the text the message must hold)
+ON_BOTH = {
+    "model of a text": (lambda b: make_model("curtain", b), "needs a Scene"),
+    "model beyond memory": (lambda b: make_model(flat_scene(nodes=(3000, 3000)), b), "GB of memory"),
+    "rest NaN": (lambda b: make_model(flat_scene(sheet=dm.Sheet(nodes=(5, 5), rest=_nan_surface)), b),
+                 "rest metric G0 is not finite"),
+    "point load outside": (lambda b: _model(b, forces=[dm.PointLoad(at=(1.5, 0.5), f=(0, 0, 1))]), "lies outside"),
+    "spring outside": (lambda b: _model(b, forces=[dm.Spring(at=(0.5, -0.1))]), "lies outside"),
+    "pin outside": (lambda b: _model(b, constraints=[dm.Pin(np.array([[0, 7]]))]), "lie outside"),
+    "mu field of the wrong grid": (lambda b: _model(b, material=dm.Material(mu=np.ones((3, 3)))),
+                                   "Material.mu has shape"),
+    "dt nan": (lambda b: dm.TimeStepper(_model(b), NAN), "dt must be positive and finite"),
+    "dt 1e-300": (lambda b: dm.TimeStepper(_model(b), 1e-300), "dt must be at least"),
+    "dt inf": (lambda b: dm.TimeStepper(_model(b), INF), "dt must be positive and finite"),
+    "dt auto without weights": (lambda b: dm.TimeStepper(_model(b, material=dm.Material(eta=0.0)), "auto"),
+                                "give dt"),
+    "scheme unknown": (lambda b: dm.TimeStepper(_model(b), 1e-3, scheme="rk4"), "scheme must be one of"),
+    "implicit scheme for tpbf87": (lambda b: dm.TimeStepper(_model(b, force_model="tpbf87"), 1e-3,
+                                                            scheme="newmark"), "needs an energy"),
+    "steps inf": (lambda b: _start(b, steps=INF), "steps must be a non-negative integer"),
+    "steps beyond the cap": (lambda b: _start(b, steps=10**8), "exceeds the cap"),
+    "t_end 1e300": (lambda b: _start(b, steps=None, t_end=1e300), "steps of dt"),
+    "t_end before the start": (lambda b: _start(b, steps=None, t_end=-1.0), "t_end must be later"),
+    "steps and t_end": (lambda b: _start(b, steps=3, t_end=1.0), "give exactly one of t_end and steps"),
+    "X0 NaN": (lambda b: _start(b, X0=_shaped(NAN)), "X0 must be finite"),
+    "X0 inf": (lambda b: _start(b, X0=_shaped(INF)), "X0 must be finite"),
+    "X0 one row short": (lambda b: _start(b, X0=lambda m: np.zeros((m.ndof - 1, 3))), "X0 has shape"),
+    "X0 NaN (variational)": (lambda b: _start(b, force_model="variational", X0=_shaped(NAN)), "X0 must be finite"),
+    "V0 NaN (variational)": (lambda b: _start(b, force_model="variational", V0=np.full((1, 3), NAN)), "V0"),
+    "resume NaN state": (lambda b: _start(b, resume=dm.State(t=0.0, X=np.full((4, 3), NAN), V=np.zeros((4, 3)))),
+                         "resume.X"),
+    "trackers a guard, not a list": (lambda b: _start(b, trackers=dm.DivergenceGuard()), "trackers must be a list"),
+    "writer of a .txt": (lambda b: dm.XDMFWriter("out.txt"), "must end in .xdmf"),
+    "writer every 0": (lambda b: dm.XDMFWriter("out.xdmf", every=0), "XDMFWriter.every"),
+    "writer interval nan": (lambda b: dm.XDMFWriter("out.xdmf", interval=NAN), "XDMFWriter.interval"),
+    "writer interval negative": (lambda b: dm.XDMFWriter("out.xdmf", interval=-0.1), "XDMFWriter.interval"),
+    "checkpoint writer every 0": (lambda b: dm.CheckpointWriter(".", "c", 0, np.zeros((4, 3))), "checkpoint-every"),
+    "equilibrium load steps 0": (lambda b: dm.equilibrium(_model(b, force_model="variational"),
+                                                          _model(b, force_model="variational").initial_state(),
+                                                          load_steps=0), "load_steps"),
+    "equilibrium with wind": (lambda b: dm.equilibrium(_model(b, force_model="variational", forces=[dm.Wind()]),
+                                                       _model(b, force_model="variational").initial_state()),
+                              "not conservative"),
+}
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+@pytest.mark.parametrize("case", list(ON_BOTH))
+def test_a_bad_value_is_an_input_error_on_both_backends(case, backend):
+    call, message = ON_BOTH[case]
+    with pytest.raises(dm.InputError) as info:
+        call(backend)
+    assert message in str(info.value)
+    assert isinstance(info.value, ValueError) and len(str(info.value).splitlines()) == 1
+
+
+def _singular(*args, **kwargs):
+    raise RuntimeError("Factor is exactly singular")  # what SuperLU raises
+
+
+def _singular_pardiso(*args, **kwargs):
+    from deformable.linalg import SingularMatrix
+
+    raise SingularMatrix("PARDISO: failed")  # what the wrapper makes of a PyPardisoError
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+@pytest.mark.parametrize("force_model", ["tpbf87", "variational"])
+def test_a_singular_step_matrix_ends_the_run_as_diverged_never_a_scipy_error(backend, force_model, monkeypatch):
+    """Every factorisation fails from the third step on (a stepper of its own, resumed at step 2): the run ends
+    "diverged" with the state of step 2."""
+    model = _model(backend, force_model=force_model, forces=[dm.Gravity()], constraints=[dm.Pin("top")])
+    stepper = dm.TimeStepper(model, 1e-3)
+    first = stepper.run(model.initial_state(), steps=2)
+    monkeypatch.setattr("scipy.sparse.linalg.splu", _singular)
+    monkeypatch.setattr("deformable.linalg.spla.splu", _singular)
+    monkeypatch.setattr("deformable.linalg.Pardiso.factor", _singular_pardiso)
+    bent = dm.State(t=first.state.t, X=first.state.X + 0.05 * np.random.default_rng(1).standard_normal(
+        first.state.X.shape), V=first.state.V, step=2)  # elastic forces: Newton has to factorise
+    fresh = dm.TimeStepper(model, 1e-3)  # no factorisation to reuse
+    result = fresh.run(model.initial_state(), steps=5, resume=bent)
+    assert result.status == "diverged" and "singular" in result.message
+    assert result.state.step == 2
+    np.testing.assert_array_equal(result.state.X, bent.X)
