@@ -313,7 +313,8 @@ class SceneConfig:
                     raise InputError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
                 object.__setattr__(self, f.name, tuple(kind(v) for v in pair))
             elif f.type in (int, "int"):
-                if isinstance(value, bool) or not isinstance(value, (int, float)) or int(value) != value:
+                if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
+                        or int(value) != value):
                     raise InputError(f"scene field {f.name} must be an integer, got {value!r}")
                 object.__setattr__(self, f.name, int(value))
             else:

@@ -344,3 +344,38 @@ def test_a_level_count_whose_checks_cannot_pass_is_refused(tmp_path, capsys):
     """The issue: ``validate tensors --levels 3`` was accepted and reported a failed order window."""
     code, _, err = _run(["validate", "tensors", "--levels", "3", "--out", tmp_path], capsys)
     _refused(code, err, "study 'tensors' runs 4 to 8 levels, got 3")
+
+
+# -- every scene field, every scene: a bad KEY=VALUE is one line naming the field -----------------------
+FIELD_CASES = [(scene, f.name, value) for scene, spec in scenes.SCENES.items()
+               for f in __import__("dataclasses").fields(spec.config_class)
+               for value in ("nan", '"text"', "[1, 2, 3]")]
+
+
+@pytest.mark.parametrize("scene, field, value", FIELD_CASES)
+def test_a_bad_value_of_any_scene_field_is_one_line_naming_it(scene, field, value, tmp_path, capsys):
+    out = tmp_path / "out"
+    code, _, err = _run(["run", scene, f"{field}={value}", "--out", out], capsys)
+    _refused(code, err, field)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["check", "drape"], "unknown scene 'drape'"),
+    (["check", "flag", "--rtol", "nan"], "--rtol must be a number in (0, 1)"),
+    (["check", "flag", "--grid", "5x5"], "at least 9 points a side"),
+    (["bench", "--sizes", "2"], "--sizes needs grid sizes of at least 3"),
+    (["bench", "--steps", "many"], "--steps must be a positive integer"),
+    (["bench", "--backend", "fv"], "unknown backend 'fv'"),
+    (["bench", "--solver", "umfpack"], "solver must be one of"),
+    (["validate", "nonsense"], "nonsense"),
+    (["validate", "tensors", "--surfaces", ","], "--surfaces needs at least one surface name"),
+    (["validate", "tensors", "--jobs", "0"], "--jobs must be a positive integer"),
+    (["run", "flag", "--grid", "6x6", "--resume", "missing.npz"], "no such file"),
+    (["run"], "name a scene or a scene file"),
+    (["run", "flag", "eta=1", "eta=2"], "scene field eta is given twice"),
+    (["run", "flag", "=1"], "expected KEY=VALUE"),
+])
+def test_other_commands_refuse_bad_values_in_one_line(argv, message, tmp_path, capsys):
+    code, _, err = _run([*argv, "--out", tmp_path / "out"] if argv[0] != "check" else argv, capsys)
+    _refused(code, err, message)
