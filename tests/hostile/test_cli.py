@@ -175,8 +175,8 @@ def _damaged(kind: str, source: Path, folder: Path) -> Path:
             items["X"] = np.full_like(items["X"], np.nan)
         elif kind == "text":
             items["X"] = np.full(items["X"].shape, "a")
-        elif kind == "step":
-            items["step"] = np.int64(1000)
+        elif kind == "time":
+            items["t"] = np.float64(1.0)
         np.savez(path, **items)
     return path
 
@@ -184,6 +184,7 @@ def _damaged(kind: str, source: Path, folder: Path) -> Path:
 @pytest.mark.parametrize("kind, message", [
     ("truncated", "cannot read checkpoint"), ("corrupted", "cannot read checkpoint"),
     ("nan", "X holds 108 NaN or infinite values"), ("text", "X is a <U1 array"),
+    ("time", "step 2 and t = 1.0 s do not fit a run from t = 0.0 s at dt = 0.005 s"),
 ])
 def test_a_damaged_checkpoint_is_one_line(flag_run, kind, message, tmp_path, capsys):
     path = _damaged(kind, flag_run / "flag-checkpoint-0000002.npz", tmp_path)

@@ -260,7 +260,7 @@ def prepare(args) -> Run:
 
     checkpoint = None
     if args.resume is not None:
-        checkpoint = load_checkpoint(args.resume)
+        checkpoint = load_checkpoint(args.resume, t0=0.0)  # the command's runs start at t = 0
     if args.scene is None and checkpoint is None:
         raise _Error("name a scene or a scene file (or --resume a checkpoint)", field="scene", value=None)
     text, source = (_source(args.scene) if args.scene is not None
