@@ -14,7 +14,7 @@ string); the options --grid, --dt, --force-model override last.
 
 Reproducible runs. The resolved config is written beside the results as
 ``<out>/<scene>.toml``: every scene field (with ``t_end`` the time the run
-was asked to end at, and ``dt`` the step it took), and a ``[run]`` table with
+was asked to end at, or steps x dt after --steps, and ``dt`` the step it took), and a ``[run]`` table with
 the backend, the scheme, the number of steps when --steps was given, the frame
 interval and the package version. ``deformable run <out>/<scene>.toml``
 reproduces the run bit for bit (its ``[run]`` table gives the backend and the
@@ -69,7 +69,7 @@ from deformable import scenes
 from deformable.dynamics import SCHEMES, EnergyMonitor, State, TimeStepper
 from deformable.dynamics.stepper import round_down
 from deformable.errors import InputError
-from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
+from deformable.output import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
 from deformable.output.folder import RunFolder, fresh, write_text
 from deformable.output.render import FIELDS, render_series
 from deformable.resources import check_series
@@ -303,6 +303,7 @@ def prepare(args) -> Run:
             raise _Error(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
                          f"{steps}", field="--steps", value=steps)
         run.steps, run.t_end = steps - step_now, None
+        cfg = cfg.replace(t_end=frame_time(steps * cfg.dt))  # the end at the requested dt ([run] steps rules)
     else:
         t_end = t_end if t_end is not None else cfg.t_end
         if not t_end > t_now * (1 + 1e-12):

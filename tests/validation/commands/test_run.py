@@ -34,7 +34,8 @@ def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
             assert FIELDS <= set(data) and all(np.all(np.isfinite(v)) for v in data.values())
     assert times == pytest.approx([0.0, 0.05, 0.1, 0.15], abs=1e-12)
     assert np.abs(data["displacement"]).max() > 0 and data["speed"].max() > 0
-    assert (tmp_path / "flag.toml").read_text().startswith("# resolved scene config")
+    text = (tmp_path / "flag.toml").read_text()
+    assert text.startswith("# resolved scene config") and "t_end = 0.15\n" in text and "steps = 30\n" in text
 
 
 def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, capsys):
