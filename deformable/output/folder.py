@@ -21,6 +21,7 @@ default output folder that every run of a scene would otherwise share.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import socket
 from pathlib import Path
@@ -36,15 +37,28 @@ LOCK = ".deformable.lock"
 CONFIG_HEADER = "# resolved scene config"
 
 
+def _run_file():
+    """A pattern of the names of the files ``deformable run`` writes for any scene of deformable.scenes.SCENES."""
+    from ..scenes import SCENES
+
+    names = "|".join(re.escape(n) for n in sorted(SCENES, key=len, reverse=True))
+    return re.compile(rf"(?:{names})(?:-from-\d+)?(?:\.xdmf|\.h5|\.xdmf\.tmp|-checkpoint-\d+(?:\.tmp)?\.npz"
+                      rf"|-diverged(?:\.tmp)?\.npz)")
+
+
 def is_result(path: Path) -> bool:
-    """Whether ``path`` is a file (or the frames folder) that a run writes."""
+    """Whether ``path`` is a file (or the frames folder) that ``deformable run`` writes.
+
+    Its series ``<scene>.xdmf`` / ``.h5`` (and the ``<scene>-from-<step>`` series of older versions), checkpoints
+    ``<scene>-checkpoint-<step>.npz`` and ``<scene>-diverged.npz``, a resolved config (a ``.toml`` file whose
+    first line is :data:`CONFIG_HEADER`), the lock, and a ``frames`` folder of PNG and GIF files only.
+    Anything else (a user's own ``data.h5``, a scene file) is not, and is never removed.
+    """
     name = path.name
     if path.is_dir():
         return name == "frames" and all(p.is_file() and (p.suffix in (".png", ".gif")) for p in path.iterdir())
-    if path.suffix in (".xdmf", ".h5") or name.endswith((".xdmf.tmp", ".tmp.npz")) or name == LOCK:
+    if name == LOCK or _run_file().fullmatch(name):
         return True
-    if path.suffix == ".npz":
-        return "-checkpoint-" in name or name.endswith("-diverged.npz")
     if path.suffix == ".toml":
         try:
             with open(path, encoding="utf-8") as f:

@@ -73,9 +73,10 @@ def test_overwrite_never_removes_files_that_are_not_a_runs_results(tmp_path, cap
     out.mkdir()
     (out / "notes.txt").write_text("mine")
     (out / "my-scene.toml").write_text('scene = "flag"\n')
+    (out / "data.h5").write_bytes(b"mine")
     code, _, err = _run(["run", "flag", *SMALL, "--out", out, "--overwrite"], capsys)
-    _refused(code, err, "holds files that are not a run's results (my-scene.toml, notes.txt)")
-    assert sorted(p.name for p in out.iterdir()) == ["my-scene.toml", "notes.txt"]
+    _refused(code, err, "holds files that are not a run's results (data.h5, my-scene.toml, notes.txt)")
+    assert sorted(p.name for p in out.iterdir()) == ["data.h5", "my-scene.toml", "notes.txt"]
 
 
 def test_the_default_out_is_a_fresh_folder_per_run(tmp_path, capsys, monkeypatch):
