@@ -388,3 +388,28 @@ def test_a_bad_value_of_any_scene_field_is_one_line_naming_it(scene, field, valu
 def test_other_commands_refuse_bad_values_in_one_line(argv, message, tmp_path, capsys):
     code, _, err = _run([*argv, "--out", tmp_path / "out"] if argv[0] != "check" else argv, capsys)
     _refused(code, err, message)
+
+
+@pytest.mark.slow
+def test_a_run_killed_at_random_resumes_in_place_into_the_uninterrupted_series(tmp_path):
+    """SIGKILL (no clean-up: the lock stays, the HDF5 file is not closed), then --resume of the last checkpoint
+    in the same folder: the series equals the uninterrupted run's frame by frame."""
+    from tests.validation.commands.test_run import _assert_same_series
+
+    root = Path(__file__).resolve().parents[2]
+    code = "import sys; from validation.commands import main; sys.exit(main(sys.argv[1:]))"
+    base = ["run", "curtain", "--grid", "8x8", "--steps", "300", "--every", "0.01", "--checkpoint-every", "25",
+            "--quiet"]
+    full, part = tmp_path / "full", tmp_path / "part"
+    assert _deformable([*base, "--out", full], cwd=root).returncode == 0
+    proc = subprocess.Popen([sys.executable, "-c", code, *base, "--out", str(part)], cwd=root)
+    while not (part / "curtain-checkpoint-0000100.npz").exists():
+        assert proc.poll() is None
+    proc.kill()
+    proc.wait()
+    assert (part / LOCK).exists()
+    last = max(part.glob("curtain-checkpoint-???????.npz"))
+    res = _deformable([*base, "--resume", last], cwd=root)
+    assert res.returncode == 0, res.stderr
+    _assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
+    assert not (part / LOCK).exists()
