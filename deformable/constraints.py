@@ -110,7 +110,8 @@ class Slide:
         ok = 1 <= len(given) <= 2 and all(not isinstance(a, bool) and a in AXES for a in given)
         axes = tuple(sorted({AXES[a] for a in given})) if ok else ()
         if not ok or len(axes) != len(given):
-            raise InputError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got {self.axis!r}")
+            raise InputError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got "
+                             f"{self.axis!r}", field="Slide.axis", value=self.axis)
         object.__setattr__(self, "axis", axes[0] if len(axes) == 1 else axes)
 
     @property

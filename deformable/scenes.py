@@ -331,7 +331,8 @@ class SceneConfig:
             raise InputError(f"scene field shear must lie in [0, 1] (eta_12 <= eta keeps eq. (13) definite), "
                              f"got {self.shear!r}")
         if min(self.rest_metric) <= 0 or min(self.size) <= 0:
-            raise InputError(f"scene fields size and rest_metric must be positive, got {self.size!r}, {self.rest_metric!r}")
+            raise InputError(f"scene fields size and rest_metric must be positive, got {self.size!r}, "
+                             f"{self.rest_metric!r}", field="size", value=self.size)
         if min(self.nodes) < 3:
             raise InputError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
         if self.dt < DT_MIN:
@@ -361,7 +362,8 @@ class SceneConfig:
         known = {f.name for f in fields(self)}
         for key in changes:
             if key not in known:
-                raise InputError(f"unknown key {key!r} for scene {self.scene!r}; known keys: {', '.join(sorted(known))}")
+                raise InputError(f"unknown key {key!r} for scene {self.scene!r}; known keys: "
+                                 f"{', '.join(sorted(known))}", field=key, value=changes[key])
         return dataclasses.replace(self, **changes)
 
     def material(self) -> Material:

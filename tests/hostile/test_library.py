@@ -146,8 +146,8 @@ SCENE = {
     "clamp a number": (lambda: dm.Clamp(5), "Clamp.where"),
     "model of None (FD)": (lambda: make_model(None, "fd"), "needs a Scene"),
     "model of None (FE)": (lambda: make_model(None, "fe"), "needs a Scene"),
-    "model beyond memory (FD)": (lambda: make_model(flat_scene(nodes=(300, 300)), "fd"), "needs about 1.44 GB of memory"),
-    "model beyond memory (FE)": (lambda: make_model(flat_scene(nodes=(150, 150)), "fe"), "needs about 1.44 GB of memory"),
+    "model beyond memory (FD)": (lambda: make_model(flat_scene(nodes=(300, 300)), "fd"), "needs about 1.44 GB"),
+    "model beyond memory (FE)": (lambda: make_model(flat_scene(nodes=(150, 150)), "fe"), "needs about 1.44 GB"),
     "unknown backend": (lambda: make_model(flat_scene(), "fv"), "unknown backend"),
 }
 
@@ -264,7 +264,7 @@ def _shaped(fill, rows=None):
 #: cases run on both backends: (call(backend), the text the message must hold)
 ON_BOTH = {
     "model of a text": (lambda b: make_model("curtain", b), "needs a Scene"),
-    "model beyond memory": (lambda b: make_model(flat_scene(nodes=(300, 300)), b), "more than the 1 GB this machine has"),
+    "model beyond memory": (lambda b: make_model(flat_scene(nodes=(300, 300)), b), "more than the 1 GB this machine"),
     "rest NaN": (lambda b: make_model(flat_scene(sheet=dm.Sheet(nodes=(5, 5), rest=_nan_surface)), b),
                  "rest metric G0 is not finite"),
     "point load outside": (lambda b: _model(b, forces=[dm.PointLoad(at=(1.5, 0.5), f=(0, 0, 1))]), "lies outside"),

@@ -143,9 +143,10 @@ def parse_grid(text: str) -> tuple[int, int]:
 
 
 def parse_overrides(items) -> dict:
-    """``["eta=25", "nodes=[16,16]", "force_model=frozen"]`` -> a dict of scene fields (TOML values; a bare word is text).
+    """``["eta=25", "nodes=[16,16]", "force_model=frozen"]`` -> a dict of scene fields.
 
-    InputError for an item without ``=`` or a key given twice; unknown keys are refused by the scene's config.
+    Values are TOML, a bare word is text. InputError for an item without ``=`` or a key given twice; unknown
+    keys are refused by the scene's config.
     """
     out = {}
     for item in items:
