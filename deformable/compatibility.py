@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import tensors
+from .errors import InputError
 from .sheet import as_surface
 
 __all__ = ["Compatibility", "Comparison", "check_compatibility", "brioschi", "christoffel", "third_derivatives",
@@ -228,15 +229,15 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     """
     G, B = np.asarray(G, float), np.asarray(B, float)
     if G.shape != B.shape or G.ndim != 4 or G.shape[:2] != (2, 2) or min(G.shape[2:]) < 5:
-        raise ValueError(f"G and B must be (2, 2, M, N) fields with M, N >= 5, got {G.shape} and {B.shape}")
+        raise InputError(f"G and B must be (2, 2, M, N) fields with M, N >= 5, got {G.shape} and {B.shape}")
     if not (np.all(np.isfinite(G)) and np.all(np.isfinite(B))):
-        raise ValueError("G and B must be finite")
+        raise InputError("G and B must be finite")
     h = (float(h), float(h)) if np.ndim(h) == 0 else tuple(float(v) for v in h)
     if np.any(tensors.det2(G) <= 0) or np.any(G[0, 0] <= 0):
-        raise ValueError("G must be positive definite at every point (G11 > 0, det G > 0)")
+        raise InputError("G must be positive definite at every point (G11 > 0, det G > 0)")
     M, N = G.shape[2:]
     if 2 * margin >= min(M, N) - 1:
-        raise ValueError(f"margin {margin} leaves no points of the {M} x {N} grid")
+        raise InputError(f"margin {margin} leaves no points of the {M} x {N} grid")
     inner = (slice(margin, M - margin), slice(margin, N - margin))
     Gamma = christoffel(G, h)
     K_G = brioschi(G, h)

@@ -25,6 +25,8 @@ from typing import Callable
 
 import numpy as np
 
+from .checks import function
+from .errors import InputError
 from .sheet import CORNERS, EDGES
 
 __all__ = ["Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES", "HeldDofs", "hold", "edges_named"]
@@ -36,7 +38,7 @@ def _named(name: str, sheet) -> np.ndarray:
     if name in EDGES:
         return sheet.edge_nodes(name)
     if name not in CORNERS:
-        raise ValueError(f"unknown edge or corner {name!r}; expected one of {sorted(set(EDGES) | set(CORNERS))}")
+        raise InputError(f"unknown edge or corner {name!r}; expected one of {sorted(set(EDGES) | set(CORNERS))}")
     mask = np.zeros(sheet.nodes, bool)
     mask[CORNERS[name]] = True
     return mask
@@ -66,14 +68,14 @@ def select(where, sheet) -> np.ndarray:
     else:
         idx = np.asarray(where)
         if idx.ndim != 2 or idx.shape[1] != 2 or not np.issubdtype(idx.dtype, np.integer):
-            raise ValueError(f"cannot select nodes with {where!r}: expected an edge name, a list of "
+            raise InputError(f"cannot select nodes with {where!r}: expected an edge name, a list of "
                              "names, a (k, 2) integer array of (m, n) indices or a predicate")
         if idx.size and (idx.min() < 0 or idx[:, 0].max() >= M or idx[:, 1].max() >= N):
-            raise ValueError(f"node indices {where!r} lie outside the {M} x {N} grid")
+            raise InputError(f"node indices {where!r} lie outside the {M} x {N} grid")
         mask = np.zeros((M, N), bool)
         mask[idx[:, 0], idx[:, 1]] = True
     if not mask.any():
-        raise ValueError(f"selection {where!r} selects no node of the {M} x {N} grid")
+        raise InputError(f"selection {where!r} selects no node of the {M} x {N} grid")
     return mask
 
 
@@ -87,6 +89,9 @@ class Pin:
 
     where: object
     motion: Callable[[float], np.ndarray] | None = None
+
+    def __post_init__(self):
+        function("Pin.motion", self.motion)
 
 
 @dataclass(frozen=True)
@@ -107,7 +112,8 @@ class Slide:
         ok = 1 <= len(given) <= 2 and all(not isinstance(a, bool) and a in AXES for a in given)
         axes = tuple(sorted({AXES[a] for a in given})) if ok else ()
         if not ok or len(axes) != len(given):
-            raise ValueError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got {self.axis!r}")
+            raise InputError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got "
+                             f"{self.axis!r}", field="Slide.axis", value=self.axis)
         object.__setattr__(self, "axis", axes[0] if len(axes) == 1 else axes)
 
     @property
@@ -124,7 +130,7 @@ class Clamp:
     def __post_init__(self):
         names = [self.where] if isinstance(self.where, str) else self.where
         if not isinstance(names, (list, tuple)) or not all(n in EDGES for n in names):
-            raise ValueError(f"Clamp.where must name edges {sorted(EDGES)}, got {self.where!r}")
+            raise InputError(f"Clamp.where must name edges {sorted(EDGES)}, got {self.where!r}")
 
     @property
     def edges(self) -> list[str]:

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .backend import Energy
+from .errors import InputError
 
 __all__ = ["alpha", "beta", "energy_density", "stretching_step", "lagged_alpha_step", "QuadraticEnergy",
            "require_energy_gradient", "require_strength_matrix"]
@@ -88,14 +89,14 @@ def lagged_alpha_step(scene, mu: np.ndarray, eta: np.ndarray | None, spacing, ei
 def require_energy_gradient(scene) -> None:
     """ValueError unless the scene's force model is the gradient of an energy (not tpbf87's eq. (14))."""
     if scene.force_model == "tpbf87":
-        raise ValueError("force_model 'tpbf87' has no energy gradient: its force (14) is not the gradient of "
+        raise InputError("force_model 'tpbf87' has no energy gradient: its force (14) is not the gradient of "
                          "eq. (13); use force_model 'variational'")
 
 
 def require_strength_matrix(scene) -> None:
     """ValueError unless the scene's force model has the strength matrix K(r) of eq. (20)."""
     if scene.force_model == "variational":
-        raise ValueError("the variational force model has no strength matrix K(r) of eq. (20); use "
+        raise InputError("the variational force model has no strength matrix K(r) of eq. (20); use "
                          "energy_gradient / energy_hessian (TimeStepper scheme 'implicit-euler' or 'newmark')")
 
 

@@ -13,6 +13,7 @@ import dataclasses
 
 import numpy as np
 
+from .errors import InputError
 from .newton import ConvergenceError, FlatEnergy, Newton, flat, unflat
 
 __all__ = ["equilibrium"]
@@ -51,10 +52,10 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
         If the residual does not fall below the tolerance within ``max_iter`` iterations.
     """
     if int(load_steps) != load_steps or load_steps < 1:
-        raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
+        raise InputError(f"load_steps must be a positive integer, got {load_steps!r}")
     fl = FlatEnergy(model)
     if not fl.loads.conservative:
-        raise ValueError("equilibrium: the scene's Wind is not conservative (it depends on velocities); "
+        raise InputError("equilibrium: the scene's Wind is not conservative (it depends on velocities); "
                          "find a steady state by running the dynamics instead")
     fl.t = t
     solver = Newton(fl, dict(newton or {}, max_iter=max_iter, rtol=0.0))

@@ -29,19 +29,15 @@ from typing import Callable
 
 import numpy as np
 
+from .checks import function, real, vector
+from .errors import InputError
 from .sheet import EDGES
 
 __all__ = ["Gravity", "BodyForce", "EdgeLoad", "PointLoad", "Spring", "Wind", "Sinusoidal", "Force"]
 
 
 def _vector(name: str, value) -> np.ndarray:
-    try:
-        v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        v = None
-    if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
-    return v
+    return vector(name, value, 3, "a finite 3-vector")
 
 
 @dataclass(frozen=True)
@@ -52,6 +48,10 @@ class Sinusoidal:
     frequency: float = 1.0
     phase: float = 0.0
     offset: float = 0.0
+
+    def __post_init__(self):
+        for name in ("amplitude", "frequency", "phase", "offset"):
+            object.__setattr__(self, name, real(f"Sinusoidal.{name}", getattr(self, name)))
 
     def __call__(self, t: float) -> float:
         return self.offset + self.amplitude * np.sin(2 * np.pi * self.frequency * t + self.phase)
@@ -71,10 +71,15 @@ class Gravity:
     kind = "body"
 
     def __post_init__(self):
-        if not np.isfinite(self.g):
-            raise ValueError(f"Gravity.g must be finite, got {self.g!r}")
+        object.__setattr__(self, "g", real("Gravity.g", self.g))
         d = _vector("Gravity.direction", self.direction)
+        largest = float(np.max(np.abs(d)))
+        if largest == 0:
+            raise InputError(f"Gravity.direction must be a non-zero 3-vector, got {self.direction!r}",
+                             field="Gravity.direction", value=self.direction)
+        d = d / largest  # scaled first, so that neither a tiny nor a huge vector loses its direction
         object.__setattr__(self, "direction", tuple(d / np.linalg.norm(d)))
+        function("Gravity.time", self.time)
 
     def density(self, a1, a2, t: float, mu) -> np.ndarray:
         """Force density at points (a1, a2) of any shape S: array S + (3,)."""
@@ -103,6 +108,8 @@ class BodyForce:
     def __post_init__(self):
         if not callable(self.f):
             object.__setattr__(self, "f", tuple(_vector("BodyForce.f", self.f)))
+        function("BodyForce.where", self.where)
+        function("BodyForce.time", self.time)
 
     def density(self, a1, a2, t: float, mu=None) -> np.ndarray:
         a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
@@ -128,10 +135,11 @@ class EdgeLoad:
     kind = "edge"
 
     def __post_init__(self):
-        if self.edge not in EDGES:
-            raise ValueError(f"EdgeLoad.edge must be one of {sorted(EDGES)}, got {self.edge!r}")
+        if not isinstance(self.edge, str) or self.edge not in EDGES:
+            raise InputError(f"EdgeLoad.edge must be one of {sorted(EDGES)}, got {self.edge!r}")
         if not callable(self.f):
             object.__setattr__(self, "f", tuple(_vector("EdgeLoad.f", self.f)))
+        function("EdgeLoad.time", self.time)
 
     def traction(self, a1, a2, t: float) -> np.ndarray:
         a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
@@ -154,16 +162,14 @@ class PointLoad:
     def __post_init__(self):
         object.__setattr__(self, "at", _point("PointLoad.at", self.at))
         object.__setattr__(self, "f", tuple(_vector("PointLoad.f", self.f)))
+        function("PointLoad.time", self.time)
 
     def force(self, t: float) -> np.ndarray:
         return _factor(self.time, t) * np.asarray(self.f)
 
 
 def _point(name: str, value) -> tuple:
-    at = np.asarray(value, float)
-    if at.shape != (2,) or not np.all(np.isfinite(at)):
-        raise ValueError(f"{name} must be a parameter point (a1, a2), got {value!r}")
-    return tuple(at)
+    return tuple(vector(name, value, 2, "a parameter point (a1, a2)"))
 
 
 def _of_time(name: str, value):
@@ -203,7 +209,7 @@ class Spring:
         for name in ("stiffness", "rest_length"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
-                raise ValueError(f"Spring.{name} must be a finite non-negative number, got {v!r}")
+                raise InputError(f"Spring.{name} must be a finite non-negative number, got {v!r}")
             object.__setattr__(self, name, float(v))
 
     def _d(self, r, t):
@@ -256,8 +262,9 @@ class Wind:
         object.__setattr__(self, "velocity", _of_time("Wind.velocity", self.velocity))
         c = self.coefficient
         if isinstance(c, bool) or not isinstance(c, (int, float)) or not np.isfinite(c) or c < 0:
-            raise ValueError(f"Wind.coefficient must be a finite non-negative number, got {c!r}")
+            raise InputError(f"Wind.coefficient must be a finite non-negative number, got {c!r}")
         object.__setattr__(self, "coefficient", float(c))
+        function("Wind.time", self.time)
 
     def _normal_speed(self, n, v, t):
         w = _factor(self.time, t) * _at_time("Wind.velocity", self.velocity, t)

@@ -56,6 +56,7 @@ import numpy as np
 from . import tensors
 from .backend import Energy
 from .elasticity import energy_density
+from .errors import InputError
 
 __all__ = ["Integrand", "slot_tensors", "HESSIANS", "FE_SLOTS", "FD_SLOTS"]
 
@@ -168,7 +169,7 @@ class Integrand:
     def hessian(self, v: np.ndarray, kind: str = "newton", sl=slice(None)) -> np.ndarray:
         """The Hessian of W in the slots at the points ``sl``, (P, S, 3, S, 3); ``kind`` one of :data:`HESSIANS`."""
         if kind not in HESSIANS:
-            raise ValueError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+            raise InputError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
         P, S, s = v.shape[0], self.S, self.slots
         f, g, frame = self._forces(v, sl)
         J = self.jacobian(v, frame).reshape(P, 6, 3 * S)

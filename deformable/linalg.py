@@ -39,6 +39,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .errors import InputError
+
 __all__ = ["SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS", "available", "SingularMatrix", "SPLU_OPTIONS"]
 
 # MKL's OpenMP threads spin for 200 ms after each parallel region by default, taking a core from the numpy
@@ -207,11 +209,11 @@ def make_solver(solver: str = "auto", definite: bool = False):
     PARDISO uses Cholesky).
     """
     if solver not in SOLVERS:
-        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+        raise InputError(f"solver must be one of {SOLVERS}, got {solver!r}")
     if solver == "auto":
         return Auto(definite)
     if solver == "pardiso":
         if "pardiso" not in available():
-            raise ValueError("solver 'pardiso' needs the pypardiso package: pip install \"deformable[fast]\"")
+            raise InputError("solver 'pardiso' needs the pypardiso package: pip install \"deformable[fast]\"")
         return Pardiso(definite)
     return SuperLU(definite)

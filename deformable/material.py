@@ -25,6 +25,8 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from .checks import finite_array
+from .errors import InputError
 
 __all__ = ["Material"]
 
@@ -33,14 +35,7 @@ _FIELDS = ("mu", "gamma")
 
 
 def _as_array(name: str, value) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"Material.{name} must be a number or an array of numbers, got {value!r}") from None
-    if not np.all(np.isfinite(arr)):
-        bad = arr[~np.isfinite(arr)].flat[0]
-        raise ValueError(f"Material.{name} must be finite, got {bad!r}")
-    return arr
+    return finite_array(f"Material.{name}", value)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -63,7 +58,7 @@ class Material:
     def __post_init__(self):
         for name in _FIELDS + _TENSORS:
             value = getattr(self, name)
-            if value is None:
+            if value is None and name in ("alpha", "beta"):
                 continue
             arr = _as_array(name, value)
             if arr.ndim == 0:
@@ -73,21 +68,24 @@ class Material:
                 object.__setattr__(self, name, arr)
         mu = np.asarray(self.mu)
         if np.any(mu <= 0):
-            raise ValueError(f"Material.mu must be positive, got {np.min(mu)!r}")
+            raise InputError(f"Material.mu must be positive, got {np.min(mu)!r}", field="Material.mu", value=self.mu)
         gamma = np.asarray(self.gamma)
         if np.any(gamma < 0):
-            raise ValueError(f"Material.gamma must be non-negative, got {np.min(gamma)!r}")
+            raise InputError(f"Material.gamma must be non-negative, got {np.min(gamma)!r}", field="Material.gamma",
+                             value=self.gamma)
         for name in ("eta", "xi"):
             w = np.asarray(getattr(self, name))
             if np.any(w < 0):
-                raise ValueError(f"Material.{name} must be non-negative (a weight of the energy (13)), got {np.min(w)!r}")
+                raise InputError(f"Material.{name} must be non-negative (a weight of the energy (13)), got "
+                                 f"{np.min(w)!r}", field=f"Material.{name}", value=getattr(self, name))
         for name in _TENSORS:
             w = getattr(self, name)
             if w is None:
                 continue
             w = np.asarray(w)
             if w.ndim in (2, 4) and w.shape[:2] == (2, 2) and not np.allclose(w[0, 1], w[1, 0], rtol=0, atol=0):
-                raise ValueError(f"Material.{name} must be symmetric: {name}_12 != {name}_21")
+                raise InputError(f"Material.{name} must be symmetric: {name}_12 != {name}_21", field=f"Material.{name}",
+                                 value=getattr(self, name))
 
     def field(self, name: str, nodes: tuple[int, int]) -> np.ndarray:
         """``mu`` or ``gamma`` as an (M, N) field on a node grid of shape ``nodes``."""
@@ -96,7 +94,7 @@ class Material:
             return np.full(nodes, float(value))
         if value.shape == tuple(nodes):
             return value
-        raise ValueError(f"Material.{name} has shape {value.shape}, expected a scalar or {tuple(nodes)}")
+        raise InputError(f"Material.{name} has shape {value.shape}, expected a scalar or {tuple(nodes)}")
 
     def tensor(self, name: str, nodes: tuple[int, int]) -> np.ndarray:
         """Weight tensor ``name`` (eta, xi, alpha, beta) as a (2, 2, M, N) field."""
@@ -113,7 +111,7 @@ class Material:
         elif value.shape == (2, 2, M, N):
             out[...] = value
         else:
-            raise ValueError(
+            raise InputError(
                 f"Material.{name} has shape {value.shape}, expected a scalar, (2, 2), "
                 f"({M}, {N}) or (2, 2, {M}, {N})"
             )

@@ -62,6 +62,7 @@ import scipy.sparse as sp
 
 from .assembly import ReducedSystem
 from .elasticity import require_energy_gradient
+from .errors import InputError, NumericalError
 from .linalg import SingularMatrix, make_solver
 
 __all__ = ["ConvergenceError", "NewtonReport", "NewtonSettings", "FlatEnergy", "Newton", "WATCHDOG", "flat", "unflat"]
@@ -72,7 +73,7 @@ WATCHDOG = 6
 CONTRACTION = 0.01
 
 
-class ConvergenceError(RuntimeError):
+class ConvergenceError(NumericalError):
     """Newton's method did not converge; ``history`` holds the residual norms per iteration."""
 
     def __init__(self, message: str, history=None, X=None):
@@ -135,13 +136,29 @@ class NewtonSettings:
         for name in ("rtol", "atol"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
-                raise ValueError(f"newton {name} must be a finite non-negative number, got {v!r}")
+                raise InputError(f"newton {name} must be a finite non-negative number, got {v!r}")
         if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 0:
-            raise ValueError(f"newton max_iter must be a non-negative integer, got {self.max_iter!r}")
+            raise InputError(f"newton max_iter must be a non-negative integer, got {self.max_iter!r}")
         if self.hessian not in ("auto",) + HESSIANS:
-            raise ValueError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
+            raise InputError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
         if self.solver not in SOLVERS:
-            raise ValueError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
+            raise InputError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
+
+    @classmethod
+    def of(cls, value) -> NewtonSettings:
+        """Settings from a NewtonSettings, a dict of its fields or None (the defaults); InputError otherwise."""
+        if isinstance(value, cls):
+            return value
+        if value is None:
+            return cls()
+        if not isinstance(value, dict):
+            raise InputError(f"newton settings must be a NewtonSettings or a dict, got {value!r}", field="newton",
+                             value=value)
+        for key in value:
+            if key not in cls.__dataclass_fields__:
+                raise InputError(f"unknown newton setting {key!r}; known: {', '.join(cls.__dataclass_fields__)}",
+                                 field="newton", value=key)
+        return cls(**value)
 
 
 def flat(X) -> np.ndarray:
@@ -240,7 +257,7 @@ class Newton:
 
     def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None):
         self.problem = problem
-        self.settings = settings if isinstance(settings, NewtonSettings) else NewtonSettings(**(settings or {}))
+        self.settings = NewtonSettings.of(settings)
         definite = self.settings.hessian in ("auto", "definite", "gauss-newton", "projected")
         self.solver = make_solver(self.settings.solver, definite=definite)
         self._system = None

@@ -19,8 +19,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .checks import sequence
 from .compatibility import warn_if_incompatible
 from .constraints import Clamp, Pin, Slide
+from .errors import InputError
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wind
 from .material import Material
 from .sheet import Sheet
@@ -54,7 +56,7 @@ def _tensor_override(name: str, value):
     if arr.ndim == 0:
         arr = arr * np.eye(2)
     if arr.shape != (2, 2) or not np.all(np.isfinite(arr)) or arr[0, 1] != arr[1, 0]:
-        raise ValueError(f"Scene.{name} must be a number, a symmetric finite 2 x 2 tensor or a callable, got {value!r}")
+        raise InputError(f"Scene.{name} must be a number, a symmetric finite 2 x 2 tensor or a callable, got {value!r}")
     return arr
 
 
@@ -98,24 +100,22 @@ class Scene:
 
     def __post_init__(self):
         if not isinstance(self.sheet, Sheet):
-            raise ValueError(f"Scene.sheet must be a Sheet, got {self.sheet!r}")
+            raise InputError(f"Scene.sheet must be a Sheet, got {self.sheet!r}")
         if not isinstance(self.material, Material):
-            raise ValueError(f"Scene.material must be a Material, got {self.material!r}")
+            raise InputError(f"Scene.material must be a Material, got {self.material!r}")
         if self.force_model not in FORCE_MODELS:
-            raise ValueError(f"Scene.force_model must be one of {FORCE_MODELS}, got {self.force_model!r}")
+            raise InputError(f"Scene.force_model must be one of {FORCE_MODELS}, got {self.force_model!r}")
         if self.force_model == "frozen" and self.material.alpha is None and self.material.beta is None:
-            raise ValueError("Scene.force_model 'frozen' needs Material.alpha and/or Material.beta")
+            raise InputError("Scene.force_model 'frozen' needs Material.alpha and/or Material.beta")
         self.material.check(self.sheet.nodes)
-        forces = tuple(self.forces)
+        forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind),
+                          "Gravity, BodyForce, EdgeLoad, PointLoad, Spring or Wind")
         for f in forces:
-            if not isinstance(f, (Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind)):
-                raise ValueError(f"Scene.forces: {f!r} is not a Gravity, BodyForce, EdgeLoad, PointLoad, Spring or Wind")
             if isinstance(f, (PointLoad, Spring)):
                 self.sheet.locate(f.at, f"{type(f).__name__}.at")  # inside the rectangle, or a ValueError naming it
-        constraints = tuple(self.constraints)
-        for c in constraints:
-            if not isinstance(c, (Pin, Slide, Clamp)):
-                raise ValueError(f"Scene.constraints: {c!r} is not a Pin, Slide or Clamp")
+        constraints = sequence("Scene.constraints", self.constraints, (Pin, Slide, Clamp), "Pin, Slide or Clamp")
+        if not isinstance(self.name, str):
+            raise InputError(f"Scene.name must be a string, got {self.name!r}", field="Scene.name", value=self.name)
         object.__setattr__(self, "forces", forces)
         object.__setattr__(self, "constraints", constraints)
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
@@ -145,11 +145,17 @@ class Scene:
             elif callable(value):
                 field = np.asarray(value(a1, a2), float)
                 if field.shape != np.shape(a1) + (2, 2):
-                    raise ValueError(f"Scene.{name} callable returned shape {field.shape}, "
+                    raise InputError(f"Scene.{name} callable returned shape {field.shape}, "
                                      f"expected {np.shape(a1) + (2, 2)}")
                 out.append(np.moveaxis(field, (-2, -1), (0, 1)))
             else:
                 out.append(np.broadcast_to(value.reshape((2, 2) + (1,) * np.ndim(a1)), default.shape).copy())
+        for name, T in zip(("metric G0", "curvature B0"), out):
+            bad = ~np.all(np.isfinite(T), axis=(0, 1))
+            if np.any(bad):
+                where = tuple(float(np.asarray(a)[bad].flat[0]) for a in np.broadcast_arrays(a1, a2))
+                raise InputError(f"the rest {name} is not finite at (a1, a2) = {where}: Sheet.rest must be a finite "
+                                 "surface with independent tangents r_1, r_2 there", field="Sheet.rest")
         return out[0], out[1]
 
     def with_nodes(self, nodes: tuple[int, int]) -> Scene:

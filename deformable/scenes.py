@@ -104,6 +104,8 @@ from typing import Callable, ClassVar
 import numpy as np
 
 from .constraints import Pin, Slide
+from .dynamics.stepper import DT_MIN
+from .errors import InputError
 from .forces import BodyForce, Gravity, Spring, Wind
 from .material import Material
 from .scene import FORCE_MODELS, Scene
@@ -111,7 +113,7 @@ from .sheet import Plane, Sheet
 
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
-    "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml",
+    "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml", "run_table",
     "equivalent_weights", "fold_wavelength", "smooth_ramp", "FoldNoise",
 ]
 
@@ -140,7 +142,7 @@ def equivalent_weights(eta: float, xi: float, source: str = "tpbf87", target: st
     """
     for name in (source, target):
         if name not in FORCE_MODELS:
-            raise ValueError(f"force model must be one of {FORCE_MODELS}, got {name!r}")
+            raise InputError(f"force model must be one of {FORCE_MODELS}, got {name!r}")
     factor = {m: VARIATIONAL_STIFFNESS if m == "variational" else (1.0, 1.0) for m in FORCE_MODELS}
     (se, sx), (te, tx) = factor[source], factor[target]
     return eta * se / te, xi * sx / tx
@@ -250,6 +252,12 @@ class SceneConfig:
         Default simulated time (s).
     force_model : str
         "variational" (default) or another of :data:`deformable.FORCE_MODELS`.
+    alpha, beta : float
+        The "frozen" model's weights, given directly (section 3.2): alpha_11 =
+        alpha_22 = alpha (N/m), beta_11 = beta_22 = beta and beta_12 = shear
+        beta (N m); alpha_12 = 0 (a cross weight of r_1 . r_2 would make the
+        membrane energy indefinite). The frozen model needs one of them
+        positive; the other models take eta and xi, and refuse alpha and beta.
     rest_metric : (G0_11, G0_22)
         The rest metric G0 = diag(G0_11, G0_22) (dimensionless); (1, 1) is the
         flat rest shape itself. A value below 1 prestresses the sheet: it is
@@ -274,21 +282,23 @@ class SceneConfig:
     dt: float = 5e-3
     t_end: float = 2.0
     force_model: str = "variational"
+    alpha: float = 0.0
+    beta: float = 0.0
     rest_metric: tuple = (1.0, 1.0)
     rest_curvature: tuple = (0.0, 0.0)
     #: fields that must be positive, and non-negative (subclasses add theirs)
     POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
-    NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi")
+    NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi", "alpha", "beta")
 
     def __post_init__(self):
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name == "scene":
                 if value not in SCENES:
-                    raise ValueError(f"unknown scene {value!r}; known scenes: {', '.join(SCENES)}")
+                    raise InputError(f"unknown scene {value!r}; known scenes: {', '.join(SCENES)}")
             elif f.name == "force_model":
                 if value not in FORCE_MODELS:
-                    raise ValueError(f"scene field force_model must be one of {FORCE_MODELS}, got {value!r}")
+                    raise InputError(f"scene field force_model must be one of {FORCE_MODELS}, got {value!r}")
             elif f.name in ("size", "nodes", "rest_metric", "rest_curvature"):
                 kind = int if f.name == "nodes" else float
                 try:
@@ -300,29 +310,46 @@ class SceneConfig:
                 except TypeError:
                     ok = False
                 if not ok:
-                    raise ValueError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
+                    raise InputError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
                 object.__setattr__(self, f.name, tuple(kind(v) for v in pair))
             elif f.type in (int, "int"):
-                if isinstance(value, bool) or not isinstance(value, (int, float)) or int(value) != value:
-                    raise ValueError(f"scene field {f.name} must be an integer, got {value!r}")
+                if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
+                        or int(value) != value):
+                    raise InputError(f"scene field {f.name} must be an integer, got {value!r}")
                 object.__setattr__(self, f.name, int(value))
             else:
                 if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-                    raise ValueError(f"scene field {f.name} must be a finite number, got {value!r}")
+                    raise InputError(f"scene field {f.name} must be a finite number, got {value!r}")
                 object.__setattr__(self, f.name, float(value))
         for name in self.POSITIVE:
             if getattr(self, name) <= 0:
-                raise ValueError(f"scene field {name} must be positive, got {getattr(self, name)!r}")
+                raise InputError(f"scene field {name} must be positive, got {getattr(self, name)!r}")
         for name in self.NON_NEGATIVE:
             if getattr(self, name) < 0:
-                raise ValueError(f"scene field {name} must be non-negative, got {getattr(self, name)!r}")
+                raise InputError(f"scene field {name} must be non-negative, got {getattr(self, name)!r}")
         if not 0 <= self.shear <= 1:
-            raise ValueError(f"scene field shear must lie in [0, 1] (eta_12 <= eta keeps eq. (13) definite), "
+            raise InputError(f"scene field shear must lie in [0, 1] (eta_12 <= eta keeps eq. (13) definite), "
                              f"got {self.shear!r}")
         if min(self.rest_metric) <= 0 or min(self.size) <= 0:
-            raise ValueError(f"scene fields size and rest_metric must be positive, got {self.size!r}, {self.rest_metric!r}")
+            raise InputError(f"scene fields size and rest_metric must be positive, got {self.size!r}, "
+                             f"{self.rest_metric!r}", field="size", value=self.size)
         if min(self.nodes) < 3:
-            raise ValueError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
+            raise InputError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
+        if self.dt < DT_MIN:
+            raise InputError(f"scene field dt must be at least {DT_MIN:g} s, got {self.dt!r}", field="dt",
+                             value=self.dt)
+        for name in ("mu", "gamma"):
+            if not math.isfinite(self.scale * getattr(self, name)):
+                raise InputError(f"scene fields scale and {name}: scale * {name} = {self.scale!r} * "
+                                 f"{getattr(self, name)!r} is not a finite number", field=name,
+                                 value=getattr(self, name))
+        if self.force_model == "frozen" and not (self.alpha > 0 or self.beta > 0):
+            raise InputError("scene fields alpha and beta: the frozen force model needs alpha > 0 or beta > 0 (its "
+                             "weights, given directly; e.g. alpha=1 beta=1e-3)", field="alpha", value=self.alpha)
+        if self.force_model != "frozen" and (self.alpha or self.beta):
+            raise InputError(f"scene fields alpha = {self.alpha!r}, beta = {self.beta!r} are the frozen model's "
+                             f"weights; the {self.force_model} model takes eta and xi (set force_model = \"frozen\")",
+                             field="alpha", value=self.alpha)
 
     def scene_kwargs(self) -> dict:
         """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
@@ -335,7 +362,8 @@ class SceneConfig:
         known = {f.name for f in fields(self)}
         for key in changes:
             if key not in known:
-                raise ValueError(f"unknown key {key!r} for scene {self.scene!r}; known keys: {', '.join(sorted(known))}")
+                raise InputError(f"unknown key {key!r} for scene {self.scene!r}; known keys: "
+                                 f"{', '.join(sorted(known))}", field=key, value=changes[key])
         return dataclasses.replace(self, **changes)
 
     def material(self) -> Material:
@@ -343,8 +371,11 @@ class SceneConfig:
         def tensor(w):
             return np.array([[w, self.shear * w], [self.shear * w, w]])
 
+        frozen = {}
+        if self.force_model == "frozen":  # alpha_12 = 0, beta_12 = shear beta (the field docs of SceneConfig)
+            frozen = dict(alpha=np.diag([self.alpha, self.alpha]), beta=tensor(self.beta))
         return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=tensor(self.eta),
-                        xi=tensor(self.xi))
+                        xi=tensor(self.xi), **frozen)
 
     def scaling(self) -> str:
         """What ``scale`` does, in words (section 3.1)."""
@@ -393,12 +424,12 @@ class CurtainConfig(SceneConfig):
     folds: float = 0.0
     taper: float = 0.5
     POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("draw_time",)
-    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("noise", "folds")
+    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("noise", "folds", "seed")
 
     def __post_init__(self):
         super().__post_init__()
         if not 0 <= self.gather < 1:
-            raise ValueError(f"scene field gather must lie in [0, 1), got {self.gather!r}")
+            raise InputError(f"scene field gather must lie in [0, 1), got {self.gather!r}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -538,7 +569,7 @@ def config(name: str, **fields_) -> SceneConfig:
         Unknown scene name, unknown field, or a bad value (the message names it).
     """
     if name not in SCENES:
-        raise ValueError(f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}")
+        raise InputError(f"unknown scene {name!r}; known scenes: {', '.join(SCENES)}")
     return SCENES[name].config(**fields_)
 
 
@@ -617,7 +648,7 @@ def read_toml(path, **overrides) -> SceneConfig:
     try:
         text = path.read_text()
     except (OSError, UnicodeDecodeError) as err:
-        raise ValueError(f"cannot read scene file {str(path)!r}: {getattr(err, 'strerror', None) or err}") from None
+        raise InputError(f"cannot read scene file {str(path)!r}: {getattr(err, 'strerror', None) or err}") from None
     return read_toml_text(text, source=str(path), **overrides)
 
 
@@ -626,20 +657,37 @@ def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneCon
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise ValueError(f"scene file {source!r} is not valid TOML: {err}") from None
+        raise InputError(f"scene file {source!r} is not valid TOML: {err}") from None
     if "scene" not in data:
-        raise ValueError(f"scene file {source!r} must name its scene, e.g. scene = \"curtain\"")
+        raise InputError(f"scene file {source!r} must name its scene, e.g. scene = \"curtain\"")
     name = data.pop("scene")
+    table = data.pop("run", None)  # the command's settings (run_table), not scene fields
+    if table is not None and not isinstance(table, dict):
+        raise InputError(f"scene file {source!r}: run must be a table [run], got {table!r}")
     if not isinstance(name, str):
-        raise ValueError(f"scene file {source!r}: scene must be a name, got {name!r}")
+        raise InputError(f"scene file {source!r}: scene must be a name, got {name!r}")
     spec = SCENES.get(name)
     if spec is None:
-        raise ValueError(f"unknown scene {name!r} in {source!r}; known scenes: {', '.join(SCENES)}")
+        raise InputError(f"unknown scene {name!r} in {source!r}; known scenes: {', '.join(SCENES)}")
     known = {f.name for f in fields(spec.config_class)}
     for key in data:
         if key not in known:
-            raise ValueError(f"unknown key {key!r} in scene file {source!r}; known keys: {', '.join(sorted(known))}")
+            raise InputError(f"unknown key {key!r} in scene file {source!r}; known keys: {', '.join(sorted(known))}")
     return spec.config(**{**data, **overrides})  # the command line wins over the file
+
+
+def run_table(text: str, source: str = "<string>") -> dict:
+    """The ``[run]`` table of a resolved config (backend, scheme, version, ...; empty when there is none).
+
+    :func:`to_toml` writes it with ``run=``; the scene readers skip it, ``deformable run`` reads it.
+    """
+    try:
+        table = tomllib.loads(text).get("run", {})
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"scene file {source!r} is not valid TOML: {err}") from None
+    if not isinstance(table, dict):
+        raise InputError(f"scene file {source!r}: run must be a table [run], got {table!r}")
+    return table
 
 
 def _toml_value(value) -> str:
@@ -652,9 +700,15 @@ def _toml_value(value) -> str:
     return str(value)
 
 
-def to_toml(cfg: SceneConfig) -> str:
-    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config."""
+def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
+    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config.
+
+    ``run``: settings that are not scene fields (backend, scheme, package version, ...), written as a
+    ``[run]`` table after the fields (:func:`run_table` reads it back).
+    """
     lines = [f"# resolved scene config ({SCENES[cfg.scene].summary})"]
     for f in fields(cfg):
         lines.append(f"{f.name} = {_toml_value(getattr(cfg, f.name))}")
+    if run:
+        lines += ["", "[run]"] + [f"{k} = {_toml_value(v)}" for k, v in run.items() if v is not None]
     return "\n".join(lines) + "\n"

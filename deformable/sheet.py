@@ -26,6 +26,9 @@ from dataclasses import dataclass
 from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
+from .checks import count, real
+from .errors import InputError
+from .resources import check_memory
 
 __all__ = ["Sheet", "Surface", "CallableSurface", "Plane", "FlatSurface", "as_surface", "Edge", "EDGES", "CORNERS",
            "bilinear", "bilinear_weights", "CELL_CORNERS"]
@@ -98,7 +101,7 @@ def _call(f, a1, a2) -> np.ndarray:
     if out.shape != a1.shape + (3,):
         out = np.broadcast_to(out, a1.shape + (3,)) if out.shape in ((3,), (1, 3)) else out
     if out.shape != a1.shape + (3,):
-        raise ValueError(f"surface callable returned shape {out.shape}, expected {a1.shape + (3,)}")
+        raise InputError(f"surface callable returned shape {out.shape}, expected {a1.shape + (3,)}")
     return out
 
 
@@ -173,7 +176,7 @@ def as_surface(obj) -> Surface:
         return obj
     if callable(obj):
         return CallableSurface(obj)
-    raise ValueError(f"expected a surface (r, r1, r2, r12) or a callable (a1, a2) -> (..., 3), got {obj!r}")
+    raise InputError(f"expected a surface (r, r1, r2, r12) or a callable (a1, a2) -> (..., 3), got {obj!r}")
 
 
 @dataclass(frozen=True)
@@ -198,20 +201,19 @@ class Sheet:
     initial: object = None
 
     def __post_init__(self):
+        if not isinstance(self.size, (tuple, list, np.ndarray)) or len(self.size) != 2:
+            raise InputError(f"Sheet.size must be two positive numbers, got {self.size!r}", field="Sheet.size",
+                             value=self.size)
+        size = tuple(real("Sheet.size", s, low=1e-30, high=1e30) for s in self.size)  # h^-4 stays finite
+        if not isinstance(self.nodes, (tuple, list, np.ndarray)) or len(self.nodes) != 2:
+            raise InputError(f"Sheet.nodes must be two integers, got {self.nodes!r}", field="Sheet.nodes",
+                             value=self.nodes)
         try:
-            size = tuple(float(s) for s in self.size)
-        except (TypeError, ValueError):
-            raise ValueError(f"Sheet.size must be two numbers, got {self.size!r}") from None
-        if len(size) != 2 or not all(np.isfinite(s) and s > 0 for s in size):
-            raise ValueError(f"Sheet.size must be two positive numbers, got {self.size!r}")
-        try:
-            nodes = tuple(int(n) for n in self.nodes)
-        except (TypeError, ValueError):
-            raise ValueError(f"Sheet.nodes must be two integers, got {self.nodes!r}") from None
-        if len(nodes) != 2 or any(n != v for n, v in zip(nodes, self.nodes)):
-            raise ValueError(f"Sheet.nodes must be two integers, got {self.nodes!r}")
-        if min(nodes) < 3:
-            raise ValueError(f"Sheet.nodes needs at least 3 nodes a side, got {self.nodes!r}")
+            nodes = tuple(count("Sheet.nodes", n, minimum=3) for n in self.nodes)
+        except InputError:
+            raise InputError(f"Sheet.nodes must be two integers, at least 3 nodes a side, got {self.nodes!r}",
+                             field="Sheet.nodes", value=self.nodes) from None
+        check_memory(nodes)  # the least a grid needs, before anything is allocated
         object.__setattr__(self, "size", size)
         object.__setattr__(self, "nodes", nodes)
         object.__setattr__(self, "rest", as_surface(self.rest))
@@ -237,7 +239,7 @@ class Sheet:
         try:
             return EDGES[name]
         except (KeyError, TypeError):
-            raise ValueError(f"unknown edge {name!r}; expected one of {sorted(EDGES)}") from None
+            raise InputError(f"unknown edge {name!r}; expected one of {sorted(EDGES)}") from None
 
     def edge_nodes(self, name: str, depth: int = 1) -> np.ndarray:
         """Boolean (M, N) mask of the ``depth`` node rows at the edge called ``name``."""
@@ -272,11 +274,11 @@ class Sheet:
             a = a[None]
         (L1, L2), (M, N) = self.size, self.nodes
         if a.ndim != 2 or a.shape[1] != 2 or not np.all(np.isfinite(a)):
-            raise ValueError(f"{what} must be (P, 2) finite parameter points, got shape {a.shape}")
+            raise InputError(f"{what} must be (P, 2) finite parameter points, got shape {a.shape}")
         tol = 1e-12 * max(L1, L2)
         outside = (a[:, 0] < -tol) | (a[:, 0] > L1 + tol) | (a[:, 1] < -tol) | (a[:, 1] > L2 + tol)
         if np.any(outside):
-            raise ValueError(f"{what} {tuple(a[outside][0])!r} lies outside [0, {L1}] x [0, {L2}]")
+            raise InputError(f"{what} {tuple(a[outside][0])!r} lies outside [0, {L1}] x [0, {L2}]")
         h1, h2 = self.h
         s, t = a[:, 0] / h1, a[:, 1] / h2
         i = np.clip(np.floor(s).astype(np.int64), 0, M - 2)

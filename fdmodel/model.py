@@ -65,6 +65,7 @@ from deformable.elasticity import (
 )
 from deformable.integrand import FD_SLOTS, FE_SLOTS, Integrand
 from deformable.loads import Loads
+from deformable.resources import check_scene
 from deformable.scene import Scene
 from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
 
@@ -124,6 +125,7 @@ class FDModel:
     """
 
     def __init__(self, scene: Scene, weighting: str | None = None):
+        check_scene(scene, "fd")  # a Scene whose grid fits in memory, before anything is allocated
         if weighting is None:
             weighting = "control-area" if scene.force_model == "variational" else "pointwise"
         if weighting not in WEIGHTINGS:

@@ -94,6 +94,7 @@ from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_st
                                    require_strength_matrix)
 from deformable.integrand import FE_SLOTS, slot_tensors
 from deformable.loads import Loads
+from deformable.resources import check_scene
 from deformable.scene import Scene
 from deformable.sheet import as_surface, bilinear
 from deformable.tensors import frame
@@ -142,6 +143,7 @@ class FEModel:
     """
 
     def __init__(self, scene: Scene, element: str = "hermite"):
+        check_scene(scene, "fe")  # a Scene whose grid fits in memory, before anything is allocated
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
         start = time.perf_counter()

@@ -150,6 +150,8 @@ class Implicit:
         except ConvergenceError as err:
             self.rejected += 1
             raise StepRejected(str(err)) from err
+        except (ArithmeticError, np.linalg.LinAlgError) as err:  # SingularMatrix even under a shift, overflow
+            raise DivergenceError(f"diverged at {label}: the Newton matrix is singular ({err})", state) from err
         for k, v in report.seconds.items():
             self.timings[k] += v
         if not np.all(np.isfinite(x)):

@@ -75,6 +75,7 @@ class SemiImplicit:
         self._system = None
         self._solvers = None
         self._lu_cache = None
+        self._other: dict[float, SemiImplicit] = {}  # the same scheme at another dt (a run's shorter last step)
 
     def _factorise(self, X):
         model = self.model
@@ -102,21 +103,35 @@ class SemiImplicit:
         return factors
 
     def step(self, state: State, X0: np.ndarray, dt: float | None = None) -> State:
-        """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference (dt: this scheme's own)."""
+        """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference.
+
+        ``dt``: this scheme's own by default; another one (a run's shorter last step) is taken by the same
+        scheme built for it, with its own step matrix. A singular step matrix, or positions that leave the
+        finite numbers, raise DivergenceError with ``state`` as the last good one.
+        """
         if dt is not None and dt != self.dt:
-            raise ValueError(f"the semi-implicit step has a fixed dt = {self.dt!r} s, got {dt!r}")
+            if dt not in self._other:
+                self._other[dt] = SemiImplicit(self.model, dt, self.solver)
+            new = self._other[dt].step(state, X0)
+            for k, v in self._other[dt].timings.items():
+                self.timings[k] += v
+                self._other[dt].timings[k] = 0.0
+            return new
         dt, model = self.dt, self.model
-        factors = self._factorise(state.X)
-        t0 = time.perf_counter()
-        G = model.load(state.X, state.t, state.V) + self._B1 @ state.X + self._B2 @ state.V
-        Xn = np.array(model.prescribed(X0, state.t + dt), dtype=float)
-        for (block, lu, Afc), (_, comps) in zip(factors, self._groups):
-            free, fixed = block["free"], block["fixed"]
-            rhs = G[np.ix_(free, comps)] - Afc @ Xn[np.ix_(fixed, comps)]
-            Xn[np.ix_(free, comps)] = lu.solve(rhs)
+        where = f"at step {state.step + 1} (t = {state.t + dt:.6g} s)"
+        try:
+            factors = self._factorise(state.X)
+            t0 = time.perf_counter()
+            G = model.load(state.X, state.t, state.V) + self._B1 @ state.X + self._B2 @ state.V
+            Xn = np.array(model.prescribed(X0, state.t + dt), dtype=float)
+            for (block, lu, Afc), (_, comps) in zip(factors, self._groups):
+                free, fixed = block["free"], block["fixed"]
+                rhs = G[np.ix_(free, comps)] - Afc @ Xn[np.ix_(fixed, comps)]
+                Xn[np.ix_(free, comps)] = lu.solve(rhs)
+        except (ArithmeticError, RuntimeError, np.linalg.LinAlgError) as err:  # SingularMatrix, SuperLU, PARDISO
+            raise DivergenceError(f"diverged {where}: the step matrix A_t of eq. (25) is singular ({err})",
+                                  state) from err
         self.timings["solve"] += time.perf_counter() - t0
         if not np.all(np.isfinite(Xn)):
-            raise DivergenceError(
-                f"diverged at step {state.step + 1} (t = {state.t + dt:.6g} s): non-finite positions", state
-            )
+            raise DivergenceError(f"diverged {where}: non-finite positions", state)
         return State(t=state.t + dt, X=Xn, V=(Xn - state.X) / dt, step=state.step + 1)

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import NumericalError
+
 __all__ = ["State", "RunResult", "DivergenceError", "StalledError"]
 
 
@@ -25,7 +27,7 @@ class State:
     A: np.ndarray | None = None
 
 
-class DivergenceError(RuntimeError):
+class DivergenceError(NumericalError):
     """The run left the range of finite numbers or a tracker's bound; ``state`` is the last good one."""
 
     def __init__(self, message: str, state: State):
@@ -33,7 +35,7 @@ class DivergenceError(RuntimeError):
         self.state = state
 
 
-class StalledError(RuntimeError):
+class StalledError(NumericalError):
     """An implicit step did not converge even at the smallest allowed dt; ``state`` is the last good one."""
 
     def __init__(self, message: str, state: State):

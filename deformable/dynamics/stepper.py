@@ -26,9 +26,17 @@ Newton solve does not reach its tolerance is retried with half the step, and
 dt grows back (doubling after :data:`GROW_AFTER` accepted steps) up to the
 requested one; a run that would
 need a step below ``dt_min`` (default the requested dt / 2^10) stops with the
-status "stalled" and its last good state. A run to ``t_end`` with an implicit
-scheme shortens its last step to end exactly there; the semi-implicit scheme
-runs ``round((t_end - t) / dt)`` steps of its fixed dt.
+status "stalled" and its last good state. A run to ``t_end`` ends exactly there with every scheme: the implicit
+schemes shorten their last step, and the semi-implicit scheme runs whole steps
+of its fixed dt and then one shorter step (with its own step matrix) when
+``t_end - t`` is not a whole number of steps (to within 1e-6 of a step).
+
+Bounds on work. ``dt`` is at least :data:`DT_MIN` (below it M/dt^2 swamps every
+stiffness in double precision and a step moves nothing); a run is at most
+:attr:`TimeStepper.max_steps` steps (:data:`MAX_STEPS`; set it to None to lift
+the cap). Bad arguments raise :class:`~deformable.errors.InputError`; a singular
+step matrix or a non-finite state ends the run with the status "diverged" and
+the last good state, never with a SciPy error.
 """
 
 from __future__ import annotations
@@ -40,13 +48,15 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
+from ..checks import count, real
 from ..elasticity import stretching_step
+from ..errors import InputError, ResourceError
 from .implicit import IMPLICIT_SCHEMES, Implicit, StepRejected
 from .semi_implicit import SemiImplicit
 from .state import DivergenceError, RunResult, StalledError, State
-from .trackers import DivergenceGuard, ProgressBar, Stop
+from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
 
-__all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down"]
+__all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down", "DT_MIN", "MAX_STEPS"]
 
 log = logging.getLogger(__name__)
 SCHEMES = ("semi-implicit",) + IMPLICIT_SCHEMES
@@ -59,6 +69,12 @@ GROW_AFTER = 4
 TARGET_ITERATIONS = 4
 #: the implicit schemes' "auto" dt, in units of the explicit stretching bound
 _IMPLICIT_AUTO = 10.0
+#: the smallest time step (s) a stepper accepts
+DT_MIN = 1e-12
+#: the most steps a run may take unless :attr:`TimeStepper.max_steps` is raised (or None)
+MAX_STEPS = 10**7
+#: a remainder of t_end - t below this fraction of dt is no step
+_REMAINDER = 1e-6
 
 
 def round_down(x: float, digits: int = 2) -> float:
@@ -97,22 +113,35 @@ class TimeStepper:
         The requested step (s); ``dt_now`` is the current one of an adaptive run.
     rejected : int
         Steps retried with a smaller dt.
+    max_steps : int or None
+        The most steps :meth:`run` takes (default :data:`MAX_STEPS`); None: no cap.
     """
+
+    max_steps: int | None = MAX_STEPS
 
     def __init__(self, model, dt, scheme: str | None = None, newton=None, dt_min: float | None = None,
                  solver: str = "auto"):
+        from ..linalg import SOLVERS
+        from ..scene import Scene
+
+        if not isinstance(getattr(model, "scene", None), Scene):
+            raise InputError(f"model must be a backend (FDModel, FEModel), got {model!r}", field="model", value=model)
+        if not isinstance(solver, str) or solver not in SOLVERS:
+            raise InputError(f"solver must be one of {SOLVERS}, got {solver!r}", field="solver", value=solver)
         force_model = model.scene.force_model
+        if not (scheme is None or isinstance(scheme, str)):
+            raise InputError(f"scheme must be one of {SCHEMES}, got {scheme!r}", field="scheme", value=scheme)
         if scheme in _RENAMED:
             warnings.warn(f"scheme {scheme!r} is now called {_RENAMED[scheme]!r}", DeprecationWarning, stacklevel=2)
             scheme = _RENAMED[scheme]
         scheme = scheme or ("implicit-euler" if force_model == "variational" else "semi-implicit")
         if scheme not in SCHEMES:
-            raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
+            raise InputError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
         if scheme == "semi-implicit" and force_model == "variational":
-            raise ValueError("scheme 'semi-implicit' lags the strength matrix K(r) of eq. (20), which the variational "
+            raise InputError("scheme 'semi-implicit' lags the strength matrix K(r) of eq. (20), which the variational "
                              "model does not have; use 'implicit-euler' or 'newmark'")
         if scheme != "semi-implicit" and force_model == "tpbf87":
-            raise ValueError(f"scheme {scheme!r} needs an energy; the tpbf87 force (14) is not a gradient "
+            raise InputError(f"scheme {scheme!r} needs an energy; the tpbf87 force (14) is not a gradient "
                              "(use force_model 'variational', or scheme 'semi-implicit')")
         self.model, self.scheme = model, scheme
         self.auto = isinstance(dt, str) and dt == "auto"
@@ -120,7 +149,7 @@ class TimeStepper:
         if dt_min is None:
             dt_min = self.dt / 2**10
         if isinstance(dt_min, bool) or not isinstance(dt_min, (int, float)) or not 0 < dt_min <= self.dt:
-            raise ValueError(f"dt_min must be a positive number not above dt = {self.dt:g} s, got {dt_min!r}")
+            raise InputError(f"dt_min must be a positive number not above dt = {self.dt:g} s, got {dt_min!r}")
         self.dt_min, self.dt_now, self.rejected = float(dt_min), self.dt, 0
         self._accepted = 0
         self._scheme = (SemiImplicit(model, self.dt, solver) if scheme == "semi-implicit"
@@ -132,21 +161,24 @@ class TimeStepper:
             if self.scheme == "semi-implicit":
                 bound = model.stable_step()
                 if not np.isfinite(bound):
-                    raise ValueError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
+                    raise InputError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
                                      "stretching bound; give dt")
                 return round_down(0.5 * bound)
             mat, h = model.scene.material, min(model.scene.sheet.h)
             weight = np.asarray(mat.alpha if model.scene.force_model == "frozen" else mat.eta)
             bound = stretching_step(float(np.min(mat.mu)), float(np.max(weight)) if weight.size else 0.0, 4 / h**2)
             if not np.isfinite(bound):
-                raise ValueError("dt 'auto' needs a stretching weight to set the step; give dt")
+                raise InputError("dt 'auto' needs a stretching weight to set the step; give dt")
             return round_down(_IMPLICIT_AUTO * bound)
         try:
             dt = float(dt)
         except (TypeError, ValueError):
-            raise ValueError(f"dt must be a positive number or 'auto', got {dt!r}") from None
+            raise InputError(f"dt must be a positive number or 'auto', got {dt!r}") from None
         if not np.isfinite(dt) or dt <= 0:
-            raise ValueError(f"dt must be positive and finite, got {dt!r}")
+            raise InputError(f"dt must be positive and finite, got {dt!r}")
+        if dt < DT_MIN:
+            raise InputError(f"dt must be at least {DT_MIN:g} s (below it M/dt^2 swamps every stiffness in double "
+                             f"precision), got {dt!r}", field="dt", value=dt)
         return dt
 
     @property
@@ -172,7 +204,7 @@ class TimeStepper:
         DivergenceError when positions leave the finite numbers.
         """
         if not self._scheme.adaptive:
-            return self._scheme.step(state, self._X0)
+            return self._scheme.step(state, self._X0, dt)
         dt = self.dt_now if dt is None else min(dt, self.dt_now)
         while True:
             try:
@@ -197,21 +229,43 @@ class TimeStepper:
             return new
 
     def start(self, X0: np.ndarray, V0: np.ndarray | None = None, t0: float = 0.0) -> State:
-        """The initial state; also fixes the reference positions of the constraints."""
-        X0 = np.array(X0, dtype=float)
-        if X0.shape != (self.model.ndof, 3):
-            raise ValueError(f"X0 has shape {X0.shape}, expected ({self.model.ndof}, 3)")
-        V0 = np.zeros_like(X0) if V0 is None else np.array(V0, dtype=float)
-        if V0.shape != X0.shape:
-            raise ValueError(f"V0 has shape {V0.shape}, expected {X0.shape}")
+        """The initial state; also fixes the reference positions of the constraints.
+
+        X0 and V0 must be finite (ndof, 3) arrays, t0 a finite number (InputError otherwise).
+        """
+        X0 = self._array("X0", X0)
+        V0 = np.zeros_like(X0) if V0 is None else self._array("V0", V0)
         self._X0 = X0
-        return State(t=float(t0), X=X0, V=V0, step=0)
+        return State(t=real("t0", t0), X=X0, V=V0, step=0)
+
+    def _array(self, name: str, value) -> np.ndarray:
+        try:
+            arr = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            arr = None
+        shape = (self.model.ndof, 3)
+        if arr is None or arr.shape != shape:
+            got = f"{value!r:.40}" if arr is None else f"has shape {arr.shape}"
+            raise InputError(f"{name} {got}, expected {shape}", field=name)
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} must be finite: it holds {np.count_nonzero(~np.isfinite(arr))} NaN or "
+                             "infinite entries", field=name)
+        return arr
+
+    def _resume(self, state) -> State:
+        if not isinstance(state, State):
+            raise InputError(f"resume must be a State, got {state!r}", field="resume", value=state)
+        for name in ("X", "V") + (("A",) if state.A is not None else ()):
+            self._array(f"resume.{name}", getattr(state, name))
+        count("resume.step", state.step, minimum=0)
+        real("resume.t", state.t)
+        return state
 
     def iterate(self, X0, steps: int | None = None, V0=None, t0: float = 0.0,
                  t_end: float | None = None) -> Iterator[State]:
         """Yield the state after each step from (X0, V0) at t0: ``steps`` of them, or until ``t_end``.
 
-        With an implicit scheme the last step before ``t_end`` is shortened to end on it. Raises
+        The last step before ``t_end`` is shortened to end on it (module docstring). Raises
         DivergenceError if positions become non-finite and StalledError if dt falls below ``dt_min``
         (each with the last good state).
         """
@@ -219,17 +273,56 @@ class TimeStepper:
         if isinstance(X0, State) and not hasattr(self, "_X0"):
             self._X0 = X0.X
         if t_end is not None and not self._scheme.adaptive:
-            steps, t_end = self._steps_to(state, t_end), None
-        count = 0
-        while (steps is None or count < steps) and (t_end is None or t_end - state.t > 1e-12 * max(1.0, t_end)):
+            full, last = self._plan(state, t_end)
+            for _ in range(full if steps is None else min(steps, full)):
+                state = self.step(state)
+                yield state
+            if last and (steps is None or steps > full):
+                state = self.step(state, t_end - state.t)
+                yield state
+            return
+        taken = 0
+        while (steps is None or taken < steps) and (t_end is None or t_end - state.t > 1e-12 * max(1.0, t_end)):
             state = self.step(state, None if t_end is None else t_end - state.t)
-            count += 1
+            taken += 1
             yield state
 
+    def _plan(self, state: State, t_end) -> tuple[int, bool]:
+        """Whole steps of dt from ``state`` to ``t_end``, and whether a shorter last step follows."""
+        t_end = real("t_end", t_end)
+        if not t_end > state.t:
+            raise InputError(f"t_end must be later than the start time {state.t}, got {t_end!r}", field="t_end",
+                             value=t_end)
+        q = (t_end - state.t) / self.dt
+        if not np.isfinite(q) or q > 1e15:
+            raise ResourceError(f"t_end = {t_end!r} s is {q:.3g} steps of dt = {self.dt:g} s away", field="t_end",
+                                value=t_end)
+        n = round(q)
+        if abs(q - n) <= _REMAINDER:
+            return n, False
+        return int(np.floor(q)), True
+
     def _steps_to(self, state: State, t_end: float) -> int:
-        if not np.isfinite(t_end) or t_end <= state.t:
-            raise ValueError(f"t_end must be later than the start time {state.t}, got {t_end!r}")
-        return int(round((t_end - state.t) / self.dt))
+        full, last = self._plan(state, t_end)
+        return full + int(last)
+
+    def length(self, t: float, *, t_end: float | None = None, steps: int | None = None) -> int:
+        """The steps a run from time ``t`` takes (the requested ones of an adaptive run), checked.
+
+        Exactly one of ``t_end`` and ``steps``; InputError for a bad value, ResourceError beyond
+        :attr:`max_steps`. :meth:`run` calls it first; a caller can check a run before it writes anything.
+        """
+        if (t_end is None) == (steps is None):
+            raise InputError("give exactly one of t_end and steps")
+        if steps is None:  # checks t_end; every scheme ends on it exactly
+            expected = self._steps_to(State(t=real("t", t), X=None, V=None), t_end)
+        else:
+            expected = count("steps", steps, minimum=0)
+        if self.max_steps is not None and expected > self.max_steps:
+            raise ResourceError(f"a run of {expected:,} steps exceeds the cap of {self.max_steps:,} steps "
+                                "(TimeStepper.max_steps; set it to None to lift the cap)", field="steps",
+                                value=expected)
+        return expected
 
     # -- a controlled run ---------------------------------------------------
     def run(
@@ -253,18 +346,19 @@ class TimeStepper:
         """
         state = self.start(X0, V0, t0)
         if resume is not None:
-            state = resume
+            state = self._resume(resume)
         first = state.step
-        if (t_end is None) == (steps is None):
-            raise ValueError("give exactly one of t_end and steps")
-        if steps is None:
-            expected = self._steps_to(state, t_end)  # checks t_end; the implicit schemes end on it exactly
-            if not self._scheme.adaptive:
-                steps, t_end = expected, None
-        elif int(steps) != steps or steps < 0:
-            raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
-        else:
-            steps = expected = int(steps)
+        expected = self.length(state.t, t_end=t_end, steps=steps)
+        if steps is not None:
+            steps = expected
+        if isinstance(trackers, Tracker) or not isinstance(trackers, (list, tuple)):
+            raise InputError(f"trackers must be a list of trackers, got {trackers!r}", field="trackers",
+                             value=trackers)
+        for tr in trackers:
+            if not all(callable(getattr(tr, k, None)) for k in ("initialize", "handle", "finalize")):
+                raise InputError(f"trackers: {tr!r} is not a tracker (initialize, handle, finalize, every)",
+                                 field="trackers", value=tr)
+            count(f"{type(tr).__name__}.every", getattr(tr, "every", None))
         trackers = list(trackers)
         if not any(isinstance(tr, DivergenceGuard) for tr in trackers):
             trackers.insert(0, DivergenceGuard())
@@ -274,7 +368,7 @@ class TimeStepper:
             tr.initialize(state, self, expected)
         status, message = "finished", ""
         start = time.perf_counter()
-        last = None if steps is None else state.step + steps
+        last = state.step + expected
         try:
             for new in self.iterate(state, steps, t_end=t_end):
                 final = new.step == last or (t_end is not None and t_end - new.t <= 1e-12 * max(1.0, t_end))

@@ -13,7 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import count
 from ..dynamics.trackers import Tracker
+from ..errors import CheckpointError, WriteError
 
 __all__ = ["CheckpointWriter", "save_checkpoint", "load_checkpoint", "CHECKPOINT_KEYS"]
 
@@ -25,42 +27,94 @@ def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, d
 
     Parameters
     ----------
-    path : target file (.npz)
+    path : target file (.npz); its folder is created if needed
     state : deformable.State (X, V and, when known, A (ndof, 3), t in s, step)
     X0 : (ndof, 3) the constraint reference of the run (its initial positions)
     scene : scene name; config : the resolved scene config as TOML text
     backend : "fd" or "fe"; dt : time step (s); nodes : (M, N)
+
+    Raises WriteError naming the file when it cannot be written (the partial file is removed).
     """
     path = Path(path)
     tmp = path.with_name(path.stem + ".tmp.npz")
     extra = {} if state.A is None else {"A": state.A}  # the implicit schemes' acceleration, when there is one
-    np.savez(tmp, X=state.X, V=state.V, t=np.float64(state.t), step=np.int64(state.step), X0=X0,
-             scene=np.str_(scene), config=np.str_(config), backend=np.str_(backend), dt=np.float64(dt),
-             nodes=np.asarray(nodes, dtype=np.int64), **extra)
-    os.replace(tmp, path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(tmp, X=state.X, V=state.V, t=np.float64(state.t), step=np.int64(state.step), X0=X0,
+                 scene=np.str_(scene), config=np.str_(config), backend=np.str_(backend), dt=np.float64(dt),
+                 nodes=np.asarray(nodes, dtype=np.int64), **extra)
+        os.replace(tmp, path)
+    except OSError as err:
+        tmp.unlink(missing_ok=True)
+        raise WriteError(f"cannot write checkpoint {str(path)!r}: {err.strerror or err}") from None
     return path
 
 
-def load_checkpoint(path) -> dict:
-    """Read a checkpoint written by :func:`save_checkpoint`; ValueError if it is not one."""
+def _damaged(path, why: str) -> CheckpointError:
+    return CheckpointError(f"checkpoint {str(path)!r} is damaged or not a checkpoint: {why}", field="resume",
+                           value=str(path))
+
+
+def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None) -> dict:
+    """Read and validate a checkpoint written by :func:`save_checkpoint` (module docstring).
+
+    Parameters
+    ----------
+    path : the .npz file
+    t0 : float, optional
+        The time the checkpoint's run started at; given, t and step must fit each other.
+    adaptive : bool, optional
+        Whether the run's scheme adapts dt (the implicit ones); None: either.
+
+    Returns a dict with the keys :data:`CHECKPOINT_KEYS` and ``A`` (None when not stored).
+    Raises CheckpointError (a ValueError) naming the file and what is wrong.
+    """
     path = Path(path)
+    if not path.is_file():
+        raise CheckpointError(f"cannot read checkpoint {str(path)!r}: no such file", field="resume", value=str(path))
     try:
         with np.load(path, allow_pickle=False) as data:
             missing = [k for k in CHECKPOINT_KEYS if k not in data.files]
             if missing:
-                raise ValueError(f"{str(path)!r} is not a checkpoint: missing {', '.join(missing)}")
+                raise CheckpointError(f"cannot read checkpoint {str(path)!r}: {str(path)!r} is not a checkpoint: "
+                                      f"missing {', '.join(missing)}", field="resume", value=str(path))
             out = {k: data[k] for k in CHECKPOINT_KEYS}
             out["A"] = data["A"] if "A" in data.files else None
-    except (OSError, EOFError) as err:
-        raise ValueError(f"cannot read checkpoint {str(path)!r}: {err}") from None
-    except ValueError as err:
-        if "is not a checkpoint" in str(err):
-            raise
-        raise ValueError(f"cannot read checkpoint {str(path)!r}: {err}") from None
+    except CheckpointError:
+        raise
+    except Exception as err:  # zipfile.BadZipFile, zlib.error, EOFError, OSError, ValueError, MemoryError ...
+        raise CheckpointError(f"cannot read checkpoint {str(path)!r}: {type(err).__name__}: {err}",
+                              field="resume", value=str(path)) from None
     for k in ("scene", "config", "backend"):
+        if out[k].dtype.kind != "U" or out[k].shape != ():
+            raise _damaged(path, f"{k} is not a string")
         out[k] = str(out[k])
+    for k in ("t", "dt", "step"):
+        if out[k].shape != () or out[k].dtype.kind not in ("i" if k == "step" else "f"):
+            raise _damaged(path, f"{k} is not a {'whole' if k == 'step' else 'real'} number")
     out["t"], out["dt"], out["step"] = float(out["t"]), float(out["dt"]), int(out["step"])
+    if out["nodes"].shape != (2,) or out["nodes"].dtype.kind != "i" or out["nodes"].min() < 3:
+        raise _damaged(path, f"nodes = {out['nodes']!r} is not a grid")
     out["nodes"] = tuple(int(n) for n in out["nodes"])
+    shape = out["X"].shape
+    if len(shape) != 2 or shape[1] != 3 or shape[0] < 9:
+        raise _damaged(path, f"X has shape {shape}, not (ndof, 3)")
+    for k in ("X", "V", "X0", "A"):
+        a = out[k]
+        if a is None:
+            continue
+        if a.dtype.kind != "f" or a.shape != shape:
+            raise _damaged(path, f"{k} is a {a.dtype} array of shape {a.shape}, not a float array of shape {shape}")
+        if not np.all(np.isfinite(a)):
+            raise _damaged(path, f"{k} holds {np.count_nonzero(~np.isfinite(a))} NaN or infinite values")
+    t, dt, step = out["t"], out["dt"], out["step"]
+    if not (np.isfinite(t) and np.isfinite(dt) and dt > 0 and step >= 0):
+        raise _damaged(path, f"t = {t!r}, dt = {dt!r}, step = {step!r}")
+    if t0 is not None:
+        elapsed, tol = t - t0, 1e-9 * max(1.0, step) * dt
+        low = 0.0 if step == 0 else ((step - 1) * dt if adaptive is False else step * dt / 2**10)
+        if not (low - tol <= elapsed <= step * dt + tol) or (step == 0 and abs(elapsed) > tol):
+            raise _damaged(path, f"step {step} and t = {t!r} s do not fit a run from t = {t0!r} s at dt = {dt!r} s")
     return out
 
 
@@ -72,10 +126,8 @@ class CheckpointWriter(Tracker):
     """
 
     def __init__(self, folder, stem: str, every: int, X0, **meta):
-        self.folder, self.stem, self.every, self.meta = Path(folder), stem, int(every), meta
+        self.folder, self.stem, self.every, self.meta = Path(folder), stem, count("checkpoint-every", every), meta
         self.X0 = np.asarray(X0)
-        if self.every < 1:
-            raise ValueError(f"checkpoint-every must be a positive integer, got {every!r}")
         self.written: list[Path] = []
 
     def path(self, step: int) -> Path:

@@ -21,12 +21,18 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["render_series", "render_frame", "FIELDS"]
+from ..errors import InputError
+
+__all__ = ["render_series", "render_frame", "read_series", "FIELDS", "TITLES"]
 
 log = logging.getLogger(__name__)
 
 #: point fields that can colour the sheet (written by deformable.output.series)
 FIELDS = ("speed", "energy_density", "G11", "G12", "G22", "B11", "B12", "B22", "x", "y", "z")
+#: the colour bar's title of each field, with its unit (G is dimensionless, B = n . r_ij is 1/m)
+TITLES = {"speed": "speed (m/s)", "energy_density": "energy density (J/m^2)", "x": "x (m)", "y": "y (m)",
+          "z": "z (m)", **{f"G{ij}": f"G{ij} (1)" for ij in ("11", "12", "22")},
+          **{f"B{ij}": f"B{ij} (1/m)" for ij in ("11", "12", "22")}}
 _AXIS = {"x": 0, "y": 1, "z": 2}
 
 
@@ -61,15 +67,21 @@ def _camera(bounds: np.ndarray):
 
 
 def render_frame(plotter, points, faces, values, field, clim, title):
-    """Draw one frame into ``plotter`` (cleared first)."""
+    """Draw one frame into ``plotter`` (cleared first).
+
+    The colour bar stands at the right edge, upright, its title (the field and its unit, :data:`TITLES`)
+    above it and three labels of three significant digits beside it, so that no label meets the title
+    or another label.
+    """
     pv = _pyvista()
     plotter.clear()
     mesh = pv.PolyData(points, faces)
     mesh[field] = values
     plotter.add_mesh(mesh, scalars=field, clim=clim, cmap="viridis", smooth_shading=True, show_edges=False,
-                     scalar_bar_args=dict(title=field, vertical=False, position_x=0.25, position_y=0.03,
-                                          width=0.5, height=0.06, title_font_size=14, label_font_size=12))
-    plotter.add_text(title, position="upper_left", font_size=10)
+                     scalar_bar_args=dict(title=TITLES.get(field, field) + "\n", vertical=True, position_x=0.84,
+                                          position_y=0.12, width=0.06, height=0.62, n_labels=3, fmt="%.3g",
+                                          title_font_size=13, label_font_size=12, color="black"))
+    plotter.add_text(title, position="upper_left", font_size=10, color="black")
 
 
 def read_series(xdmf):
@@ -86,7 +98,7 @@ def read_series(xdmf):
 
 
 def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: bool = True, title: str = "",
-                  fps: float = 12.0, max_frames: int | None = None) -> list[Path]:
+                  fps: float = 12.0, max_frames: int | None = None, progress: bool = False) -> list[Path]:
     """Render every frame of an XDMF series to PNG (and a GIF of them).
 
     Parameters
@@ -98,6 +110,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     gif : also assemble the frames into a GIF (Pillow)
     title : text drawn in the corner, followed by the frame's time
     max_frames : render at most this many frames, evenly spread (all by default)
+    progress : show a progress bar on stderr (tqdm; silent when stderr is not a terminal)
 
     Returns
     -------
@@ -105,7 +118,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
         The PNG files written (and the GIF last, if made).
     """
     if field not in FIELDS:
-        raise ValueError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
+        raise InputError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
     pv = _pyvista()
     cells, frames = read_series(xdmf)
     if not frames:
@@ -128,6 +141,13 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
     plotter.set_background("white")
     written = []
+    bar = None
+    if progress:
+        import sys
+
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(frames), desc="rendering", unit="frame", disable=not sys.stderr.isatty(), leave=False)
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
             render_frame(plotter, points, faces, np.ravel(v), field, clim, f"{title}  t = {t:.3f} s".strip())
@@ -135,8 +155,12 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
             png = out_dir / f"frame-{k:05d}.png"
             plotter.screenshot(str(png))
             written.append(png)
+            if bar is not None:
+                bar.update()
     finally:
         plotter.close()
+        if bar is not None:
+            bar.close()
     if gif and written:
         from PIL import Image
 

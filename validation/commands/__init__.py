@@ -11,9 +11,11 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import signal
 import sys
 
 import deformable
+from deformable.errors import NumericalError
 
 __all__ = ["main", "CommandError"]
 
@@ -36,14 +38,26 @@ class _Parser(argparse.ArgumentParser):
         raise CommandError(f"{self.prog}: {message}")
 
 
+class _Help(argparse.HelpFormatter):
+    """Help that shows every option's default: "(default: X)" appended unless the text states it already."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if "default" in text or action.default in (None, False, argparse.SUPPRESS) or not action.option_strings:
+            return text
+        return f"{text} (default: %(default)s)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="deformable", description="Elastic sheets after Terzopoulos et al. (1987): "
-                     "finite differences and finite elements, with a validation harness.")
+                     "finite differences and finite elements, with a validation harness.", formatter_class=_Help)
     parser.add_argument("--version", action="version", version=f"deformable {deformable.__version__}")
-    parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log progress details (default: off)")
+    parser.add_argument("-q", "--quiet", action="store_true",
+                        help="print only errors and warnings: no progress bars, no summary (default: off)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, (module, help_) in COMMANDS.items():
-        p = sub.add_parser(name, help=help_, description=help_)
+        p = sub.add_parser(name, help=help_, description=help_, formatter_class=_Help)
         try:
             mod = importlib.import_module(module)
         except ModuleNotFoundError as err:
@@ -52,6 +66,8 @@ def build_parser() -> argparse.ArgumentParser:
             p.set_defaults(_execute=_missing(name))
             continue
         mod.configure(p)
+        p.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+                       help="print only errors and warnings: no progress bars, no summary (default: off)")
         p.set_defaults(_execute=mod.execute)
     return parser
 
@@ -65,6 +81,8 @@ def _missing(name):
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f): a failed write (EFBIG), not a crash
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     try:
         parser = build_parser()
         args = parser.parse_args(argv)
@@ -80,6 +98,12 @@ def main(argv=None) -> int:
     except OSError as err:  # a file system failure after the checks (disk full, folder removed)
         print(f"error: {err}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print("error: out of memory; choose a coarser grid or a shorter run", file=sys.stderr)
+        return 2
+    except NumericalError as err:  # a failure of the numerics outside a run (which reports it as its status)
+        print(f"error: {err}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

@@ -42,6 +42,7 @@ import scipy.sparse.linalg as spla
 
 from deformable import scenes
 from deformable.dynamics import TimeStepper
+from deformable.errors import InputError
 from deformable.linalg import make_solver
 from deformable.newton import flat
 from validation.harness.backends import make_model
@@ -265,25 +266,25 @@ def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
     try:
         sizes = [int(s) for s in str(text).split(",") if s.strip()]
     except ValueError:
-        raise ValueError(f"{flag} must be comma-separated integers, got {text!r}") from None
+        raise InputError(f"{flag} must be comma-separated integers, got {text!r}") from None
     if (not sizes and not allow_empty) or (sizes and min(sizes) < 3):
-        raise ValueError(f"{flag} needs grid sizes of at least 3, got {text!r}")
+        raise InputError(f"{flag} needs grid sizes of at least 3, got {text!r}")
     return sizes
 
 
 def _parse(args):
     backends = {"fd": ["fd"], "fe": ["fe"], "all": ["fd", "fe"]}.get(args.backend)
     if backends is None:
-        raise ValueError(f"unknown backend {args.backend!r}; choose fd, fe or all")
+        raise InputError(f"unknown backend {args.backend!r}; choose fd, fe or all")
     sizes = _sizes(args.sizes, "--sizes")
     implicit = {"fd": _sizes(args.implicit_fd, "--implicit-fd", allow_empty=True),
                 "fe": _sizes(args.implicit_fe, "--implicit-fe", allow_empty=True)}
     try:
         steps = int(args.steps)
     except ValueError:
-        raise ValueError(f"--steps must be a positive integer, got {args.steps!r}") from None
+        raise InputError(f"--steps must be a positive integer, got {args.steps!r}") from None
     if steps < 1:
-        raise ValueError(f"--steps must be a positive integer, got {args.steps!r}")
+        raise InputError(f"--steps must be a positive integer, got {args.steps!r}")
     make_solver(args.solver)  # a bad or missing solver is refused before any work
     return backends, sizes, implicit, steps
 

@@ -2,29 +2,54 @@ r"""``deformable run``: run a scene, write an XDMF time series, pictures and che
 
 ::
 
-    deformable run SCENE|FILE.toml [--backend fd|fe] [--steps N | --t-end T] [--dt DT]
-                   [--grid MxN] [--out DIR] [--render] [--every K] [--field NAME]
-                   [--checkpoint-every K] [--resume FILE]
+    deformable run SCENE|FILE.toml [KEY=VALUE ...] [--backend fd|fe] [--force-model M] [--scheme S]
+                   [--steps N | --t-end T] [--dt DT] [--grid MxN] [--out DIR] [--overwrite]
+                   [--render] [--every SECONDS] [--field NAME] [--checkpoint-every K] [--resume FILE]
 
 The scene is a name of :data:`deformable.scenes.SCENES` or a TOML file
-(``scene = "curtain"`` plus fields; :func:`deformable.scenes.read_toml`); the
-command-line values --grid and --dt override it last. The resolved config is
-written as ``<out>/<scene>.toml``.
+(``scene = "curtain"`` plus fields; :func:`deformable.scenes.read_toml`).
+``KEY=VALUE`` sets any field of the scene's config (``eta=25``,
+``nodes=[16,16]``, ``force_model=frozen``; values are TOML, a bare word is a
+string); the options --grid, --dt, --force-model override last.
+
+Reproducible runs. The resolved config is written beside the results as
+``<out>/<scene>.toml``: every scene field (with ``t_end`` the time the run
+was asked to end at, or steps x dt after --steps, and ``dt`` the step it took), and a ``[run]`` table with
+the backend, the scheme, the number of steps when --steps was given, the frame
+interval and the package version. ``deformable run <out>/<scene>.toml``
+reproduces the run bit for bit (its ``[run]`` table gives the backend and the
+scheme; options on the command line still override).
+
+Output folders. The default ``--out`` is ``runs/<scene>``, or ``runs/<scene>-2``, ...
+when that already holds results. A run never mixes with another run's
+results (:mod:`deformable.output.folder`): an ``--out`` holding them is refused
+unless ``--overwrite`` is given (they are then removed first), and a lock keeps
+two runs out of one folder.
 
 The time stepping is eq. (22)-(27) (:class:`deformable.TimeStepper`); the
 output is written as the run goes (:mod:`deformable.output`), so a killed run
 keeps its frames. ``--steps N`` means: run until step N (a resumed run ends at
-the same step as the uninterrupted one); ``--t-end T`` likewise ends at time T.
+the same step as the uninterrupted one); ``--t-end T`` likewise ends at time T,
+exactly (the last step is shortened where T is not a whole number of steps).
+``--every S`` writes a frame every S seconds of simulated time (the first step
+at or past each multiple of S), so the frames do not depend on the backend's dt.
 
 Checkpoints (``--checkpoint-every K``) hold X, V, t, step, the constraint
-reference X0 and the scene config; ``--resume FILE`` rebuilds the scene from
-the checkpoint and continues, bit-identical to an uninterrupted run. A diverging
-run stops at the step that diverged, keeps its frames and writes a checkpoint
-of the last good state (``<scene>-diverged.npz``); the command then exits 1.
+reference X0 and the resolved config; ``--resume FILE`` continues from one,
+bit-identical to an uninterrupted run. Any difference between the scene (file,
+``KEY=VALUE``, options) and the checkpoint's config is refused, naming the field
+(the scene may be left out: the checkpoint's is taken). The resumed run
+continues the series ``<scene>.xdmf`` of the checkpoint's folder (by default
+its ``--out``; another folder gets a copy of it first), dropping its frames
+after the checkpoint, so the series equals the uninterrupted run's frame by
+frame, ``displacement`` measured from the original start. A diverging run
+stops at the step that diverged, keeps its frames and writes a checkpoint of
+the last good state (``<scene>-diverged.npz``); the command then exits 1.
 
 Bad input (unknown scene or key, malformed grid, dt <= 0, an output folder that
-cannot be written, a resume file that does not fit) is reported in one line on
-stderr with exit code 2 before anything is written.
+cannot be written or holds another run's results, a resume file that is damaged
+or does not fit) is reported in one line on stderr with exit code 2 before
+anything is written.
 """
 
 from __future__ import annotations
@@ -32,66 +57,134 @@ from __future__ import annotations
 import logging
 import math
 import re
+import shutil
 import sys
 import time
+import tomllib
+from dataclasses import fields
 from pathlib import Path
 
+import deformable
 from deformable import scenes
-from deformable.dynamics import EnergyMonitor, State, TimeStepper
-from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
+from deformable.dynamics import SCHEMES, EnergyMonitor, State, TimeStepper
+from deformable.errors import InputError
+from deformable.output import (
+    CheckpointWriter,
+    XDMFWriter,
+    frame_time,
+    load_checkpoint,
+    save_checkpoint,
+)
+from deformable.output.folder import RunFolder, fresh, write_text
 from deformable.output.render import FIELDS, render_series
+from deformable.resources import check_series
 from deformable.scene import FORCE_MODELS
 from validation.harness.backends import BACKENDS, backend_dt, make_model
-from validation.harness.report import writable_folder
 
-__all__ = ["configure", "execute", "parse_grid", "scene_config", "Run", "prepare", "simulate"]
+__all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "simulate",
+           "RUN_KEYS", "DEFAULT_EVERY"]
 
 log = logging.getLogger(__name__)
 
+#: keys of the [run] table of a resolved config
+RUN_KEYS = ("backend", "scheme", "steps", "every", "version")
+#: the default frame interval (s of simulated time)
+DEFAULT_EVERY = 0.02
 
-class _Error(ValueError):
+
+class _Error(InputError):
     """Bad input: the command line prints it as one line and exits with code 2."""
 
 
 def configure(parser) -> None:
     """Arguments of ``deformable run``."""
-    parser.add_argument("scene", metavar="SCENE|FILE.toml",
-                        help=f"a scene name ({', '.join(scenes.SCENES)}) or a TOML scene file")
-    parser.add_argument("--backend", default="fd", help="fd (finite differences) or fe (finite elements)")
+    parser.add_argument("scene", metavar="SCENE|FILE.toml", nargs="?", default=None,
+                        help=f"a scene name ({', '.join(scenes.SCENES)}) or a TOML scene file, e.g. a run's resolved "
+                        "config (default with --resume: the checkpoint's scene)")
+    parser.add_argument("overrides", metavar="KEY=VALUE", nargs="*", default=[],
+                        help="set a field of the scene's config, e.g. eta=25 nodes=[16,16] force_model=frozen "
+                        "(values are TOML; default: none)")
+    parser.add_argument("--backend", default=None,
+                        help="fd (finite differences) or fe (finite elements) (default: the scene file's [run] "
+                        "backend, else fd)")
     parser.add_argument("--force-model", default=None, metavar="MODEL",
-                        help=f"{', '.join(FORCE_MODELS)} (default: the scene's, tpbf87); variational steps "
-                        "by implicit Euler (Newton), stable for large xi")
+                        help=f"{', '.join(FORCE_MODELS)} (default: the scene's, variational); frozen takes the "
+                        "scene keys alpha and beta")
+    parser.add_argument("--scheme", default=None, choices=SCHEMES,
+                        help="time-stepping scheme (default: the scene file's [run] scheme, else implicit-euler "
+                        "for the variational model, semi-implicit for tpbf87 and frozen)")
     length = parser.add_mutually_exclusive_group()
-    length.add_argument("--steps", type=str, default=None, help="run until this step number")
-    length.add_argument("--t-end", type=str, default=None, help="run until this time (s; default: the scene's)")
-    parser.add_argument("--dt", type=str, default=None, help="time step (s; default: the scene's)")
-    parser.add_argument("--grid", default=None, help="node grid MxN (default: the scene's, 32x32)")
-    parser.add_argument("--out", default=None, help="output folder (default: runs/<scene>)")
-    parser.add_argument("--render", action="store_true", help="render PNG frames and a GIF (pyvista, offscreen)")
+    length.add_argument("--steps", type=str, default=None, help="run until this step number (default: run to t_end)")
+    length.add_argument("--t-end", type=str, default=None,
+                        help="run until this time (s), exactly (default: the scene's t_end)")
+    parser.add_argument("--dt", type=str, default=None,
+                        help="time step (s) (default: the scene's, or half the backend's stable step if smaller)")
+    parser.add_argument("--grid", default=None, help="node grid MxN (default: the scene's nodes)")
+    parser.add_argument("--out", default=None,
+                        help="output folder (default: runs/<scene>, or runs/<scene>-2, ... if that holds results; "
+                        "with --resume: the checkpoint's folder)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace another run's results in --out (default: refuse such a folder)")
+    parser.add_argument("--render", action="store_true",
+                        help="render PNG frames and a GIF (pyvista, offscreen) (default: off)")
     parser.add_argument("--every", type=str, default=None,
-                        help="write a frame every K steps (default: every 1/50 s of simulated time)")
+                        help=f"write a frame every this many seconds of simulated time (default: {DEFAULT_EVERY})")
     parser.add_argument("--field", default="speed", help=f"field that colours the frames: {', '.join(FIELDS)}")
-    parser.add_argument("--checkpoint-every", type=str, default=None, help="write a checkpoint every K steps")
-    parser.add_argument("--resume", default=None, help="continue from a checkpoint file (.npz)")
+    parser.add_argument("--checkpoint-every", type=str, default=None,
+                        help="write a checkpoint every K steps (default: none)")
+    parser.add_argument("--resume", default=None, help="continue from a checkpoint file (.npz) (default: none)")
 
 
 # -- parsing -------------------------------------------------------------------------
 def parse_grid(text: str) -> tuple[int, int]:
-    """``"MxN"`` -> (M, N); ValueError unless two integers >= 3."""
+    """``"MxN"`` -> (M, N); InputError unless two integers >= 3."""
     m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", str(text))
     if not m:
-        raise _Error(f"malformed grid {text!r}: expected MxN, e.g. 32x32")
+        raise _Error(f"malformed grid {text!r}: expected MxN, e.g. 32x32", field="--grid", value=text)
     M, N = int(m.group(1)), int(m.group(2))
     if min(M, N) < 3:
-        raise _Error(f"grid {text!r} needs at least 3 nodes a side")
+        raise _Error(f"grid {text!r} needs at least 3 nodes a side", field="--grid", value=text)
     return M, N
 
 
+def parse_overrides(items) -> dict:
+    """``["eta=25", "nodes=[16,16]", "force_model=frozen"]`` -> a dict of scene fields.
+
+    Values are TOML, a bare word is text. InputError for an item without ``=`` or a key given twice; unknown
+    keys are refused by the scene's config.
+    """
+    out = {}
+    for item in items:
+        key, sep, text = str(item).partition("=")
+        key = key.strip()
+        if not sep or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", key):
+            raise _Error(f"expected KEY=VALUE, e.g. eta=25, got {item!r}", field="KEY=VALUE", value=item)
+        if key in out:
+            raise _Error(f"scene field {key} is given twice on the command line", field=key, value=text)
+        try:
+            value = tomllib.loads(f"v = {text}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = text.strip()  # a bare word: a string (force_model=frozen)
+        out[key] = tuple(value) if isinstance(value, list) else value
+    return out
+
+
 def scene_config(scene: str, **overrides) -> scenes.SceneConfig:
-    """The config of a scene name or a TOML scene file (``*.toml``), with overrides; ValueError naming what is wrong."""
+    """The config of a scene name or a TOML scene file (``*.toml``), with overrides; InputError naming what is wrong."""
     if scene.endswith(".toml"):
         return scenes.read_toml(scene, **overrides)
     return scenes.config(scene, **overrides)
+
+
+def _source(scene: str) -> tuple[str | None, str]:
+    """(the text of a scene file, its name) or (None, a scene name)."""
+    if not scene.endswith(".toml"):
+        return None, scene
+    try:
+        return Path(scene).read_text(), scene
+    except (OSError, UnicodeDecodeError) as err:
+        raise _Error(f"cannot read scene file {scene!r}: {getattr(err, 'strerror', None) or err}", field="scene",
+                     value=scene) from None
 
 
 def _positive(name: str, text, kind=float):
@@ -99,136 +192,232 @@ def _positive(name: str, text, kind=float):
         return None
     try:
         value = kind(text)
-    except (TypeError, ValueError):
-        raise _Error(f"--{name} must be a positive {'integer' if kind is int else 'number'}, got {text!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise _Error(f"--{name} must be a positive {'integer' if kind is int else 'number'}, got {text!r}",
+                     field=f"--{name}", value=text) from None
     if not (math.isfinite(value) and value > 0):
-        raise _Error(f"--{name} must be positive, got {text!r}")
+        raise _Error(f"--{name} must be positive, got {text!r}", field=f"--{name}", value=text)
     return value
+
+
+def _table(text: str | None, source: str) -> dict:
+    """The [run] table of a scene file, its keys checked."""
+    if text is None:
+        return {}
+    table = scenes.run_table(text, source)
+    for key in table:
+        if key not in RUN_KEYS:
+            raise _Error(f"unknown key {key!r} in the [run] table of {source!r}; known keys: {', '.join(RUN_KEYS)}",
+                         field=key, value=table[key])
+    if table.get("version", deformable.__version__) != deformable.__version__:
+        log.warning("%s was written by deformable %s, this is %s: the numbers may differ", source,
+                    table["version"], deformable.__version__)
+    return table
+
+
+def _differences(a: scenes.SceneConfig, b: scenes.SceneConfig, skip=("t_end",)) -> list[str]:
+    """The fields (but ``skip``) in which two configs differ, as 'name = a vs b'."""
+    if a.scene != b.scene:
+        return [f"scene = {a.scene!r} vs {b.scene!r}"]
+    return [f"{f.name} = {getattr(a, f.name)!r} vs {getattr(b, f.name)!r}" for f in fields(a)
+            if f.name not in skip and getattr(a, f.name) != getattr(b, f.name)]
 
 
 class Run:
     """A prepared run: everything checked, nothing written yet.
 
-    Attributes: ``config`` (the resolved scene config), ``scene``, ``model``,
-    ``stepper``, ``X0`` (constraint reference, (ndof, 3)), ``start`` (State or
-    None: a resume point), ``steps`` (to run), ``every``, ``out`` (folder),
-    ``stem`` (file name stem), ``backend``.
+    Attributes: ``config`` (the resolved scene config), ``settings`` (the [run] table), ``scene``, ``model``,
+    ``stepper``, ``X0`` (constraint reference, (ndof, 3)), ``start`` (State or None: a resume point),
+    ``steps`` / ``t_end`` (where to stop; one is None), ``every`` (frame interval, s), ``folder``
+    (a :class:`RunFolder`), ``out`` (its path), ``series`` (a series to continue, or None), ``backend``.
     """
 
 
 def prepare(args) -> Run:
-    """Check all input and build the model; raises _Error (a ValueError) on bad input."""
+    """Check all input and build the model; raises InputError (a ValueError) on bad input, writes nothing."""
     run = Run()
-    backend = args.backend
-    if backend not in BACKENDS:
-        raise _Error(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
     if args.field not in FIELDS:
-        raise _Error(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}")
+        raise _Error(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
+                     value=args.field)
     dt = _positive("dt", args.dt)
     steps = _positive("steps", args.steps, int)
     t_end = _positive("t-end", args.t_end)
-    every = _positive("every", args.every, int)
+    every = _positive("every", args.every)
     ck_every = _positive("checkpoint-every", args.checkpoint_every, int)
-    overrides = {}
+    items = list(args.overrides)
+    if args.scene is not None and "=" in args.scene and not args.scene.endswith(".toml"):
+        items.insert(0, args.scene)  # deformable run --resume CK eta=2: no scene, overrides only
+        args.scene = None
+    overrides = parse_overrides(items)
+    cli = {}
     if args.grid is not None:
-        overrides["nodes"] = parse_grid(args.grid)
+        cli["nodes"] = parse_grid(args.grid)
     if dt is not None:
-        overrides["dt"] = dt
+        cli["dt"] = dt
     if args.force_model is not None:
         if args.force_model not in FORCE_MODELS:
-            raise _Error(f"unknown force model {args.force_model!r}; choose one of {', '.join(FORCE_MODELS)}")
-        overrides["force_model"] = args.force_model
+            raise _Error(f"unknown force model {args.force_model!r}; choose one of {', '.join(FORCE_MODELS)}",
+                         field="--force-model", value=args.force_model)
+        cli["force_model"] = args.force_model
+    for key in set(cli) & set(overrides):
+        if cli[key] != overrides[key]:
+            raise _Error(f"scene field {key} is {overrides[key]!r} as KEY=VALUE but {cli[key]!r} as an option",
+                         field=key, value=overrides[key])
 
     checkpoint = None
     if args.resume is not None:
-        checkpoint = load_checkpoint(args.resume)
-        base = scenes.read_toml_text(checkpoint["config"], source=args.resume)
-        given = scene_config(args.scene)
-        if given.scene != base.scene:
-            raise _Error(f"resume file {args.resume!r} holds scene {base.scene!r}, not {given.scene!r}")
-        if checkpoint["backend"] != backend:
-            raise _Error(f"resume file {args.resume!r} was written by backend {checkpoint['backend']!r}, "
-                         f"not {backend!r}")
-        for key, value in overrides.items():
-            if getattr(base, key) != value:
-                raise _Error(f"resume file {args.resume!r} has {key} = {getattr(base, key)!r}, "
-                             f"but {value!r} was asked for")
-        cfg = base
-    else:
-        cfg = scene_config(args.scene, **overrides)
+        checkpoint = load_checkpoint(args.resume, t0=0.0)  # the command's runs start at t = 0
+    if args.scene is None and checkpoint is None:
+        raise _Error("name a scene or a scene file (or --resume a checkpoint)", field="scene", value=None)
+    text, source = (_source(args.scene) if args.scene is not None
+                    else (checkpoint["config"], f"the checkpoint {args.resume}"))
+    table = _table(text, source)
+    fields_ = {**overrides, **cli}
+    cfg = (scenes.read_toml_text(text, source=source, **fields_) if text is not None
+           else scenes.config(source, **fields_))
+    backend = args.backend or table.get("backend") or (checkpoint["backend"] if checkpoint else "fd")
+    if backend not in BACKENDS:
+        raise _Error(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}", field="backend",
+                     value=backend)
     scene = scenes.build(cfg)
     model = make_model(scene, backend)
     # the scenes' default dt is the FD one; a backend with a tighter stretching bound gets its own.
     # The bound comes from lagging alpha (eq. 25): the frozen and variational models have none (inf).
     bound = model.stable_step()
     own = backend_dt(model, cfg.dt)
-    if dt is None and checkpoint is None and own != cfg.dt:
+    if "dt" not in fields_ and own != cfg.dt:
         cfg = cfg.replace(dt=own)
         log.info("dt = %g s for the %s backend (half its stretching bound %.3g s)", cfg.dt, backend, bound)
     if cfg.dt > bound:
         log.warning("dt = %g s exceeds the %s backend's stretching stability bound %.3g s "
                     "(docs/design.md, 'Time stepping'): expect divergence", cfg.dt, backend, bound)
-    stepper = TimeStepper(model, cfg.dt)
+    stepper = TimeStepper(model, cfg.dt, scheme=args.scheme or table.get("scheme"))
+
     if checkpoint is not None:
-        X0, X, V = checkpoint["X0"], checkpoint["X"], checkpoint["V"]
-        if X.shape != (model.ndof, 3) or X0.shape != X.shape or V.shape != X.shape:
-            raise _Error(f"resume file {args.resume!r} holds states of shape {X.shape}, "
-                         f"the scene has ({model.ndof}, 3)")
-        if checkpoint["dt"] != cfg.dt:
-            raise _Error(f"resume file {args.resume!r} was written with dt = {checkpoint['dt']!r}, "
-                         f"the scene has {cfg.dt!r}")
-        A = checkpoint["A"]
-        if A is not None and A.shape != X.shape:
-            raise _Error(f"resume file {args.resume!r} holds accelerations of shape {A.shape}, the scene has "
-                         f"({model.ndof}, 3)")
-        run.start = State(t=checkpoint["t"], X=X, V=V, step=checkpoint["step"], A=A)
+        _fits(args.resume, checkpoint, cfg, backend, stepper)
+        X0 = checkpoint["X0"]
+        run.start = State(t=checkpoint["t"], X=checkpoint["X"], V=checkpoint["V"], step=checkpoint["step"],
+                          A=checkpoint["A"])
     else:
         X0 = model.initial_state()
         run.start = None
     t_now = 0.0 if run.start is None else run.start.t
     step_now = 0 if run.start is None else run.start.step
+    if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
+        steps = _positive("steps", table["steps"], int)  # a resolved config of a run given --steps
     if steps is not None:
-        target = steps
+        if steps <= step_now:
+            raise _Error(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
+                         f"{steps}", field="--steps", value=steps)
+        run.steps, run.t_end = steps - step_now, None
+        cfg = cfg.replace(t_end=frame_time(steps * cfg.dt))  # the end at the requested dt ([run] steps rules)
     else:
-        target = int(round((t_end if t_end is not None else cfg.t_end) / cfg.dt))
-    if target <= step_now:
-        raise _Error(f"the run already stands at step {step_now} (t = {t_now:.6g} s); "
-                     f"nothing to do until step {target}")
-    run.steps = target - step_now
-    run.every = every if every is not None else max(1, int(round(0.02 / cfg.dt)))
+        t_end = t_end if t_end is not None else cfg.t_end
+        if not t_end > t_now * (1 + 1e-12):
+            raise _Error(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do until "
+                         f"t = {t_end:.6g} s", field="--t-end", value=t_end)
+        cfg = cfg.replace(t_end=t_end)
+        run.steps, run.t_end = None, t_end
+    stepper.length(t_now, steps=run.steps, t_end=run.t_end)  # a bad length or one beyond the cap, before any work
+    run.every = every if every is not None else _positive("every", table.get("every", DEFAULT_EVERY))
     run.ck_every = ck_every
     run.render, run.field = args.render, args.field
     run.config, run.scene, run.model, run.stepper, run.X0, run.backend = cfg, scene, model, stepper, X0, backend
-    run.out = writable_folder(Path(args.out) if args.out else Path("runs") / cfg.scene)
-    run.stem = cfg.scene if run.start is None else f"{cfg.scene}-from-{step_now:07d}"
+    run.settings = dict(backend=backend, scheme=stepper.scheme, steps=steps, every=run.every,
+                        version=deformable.__version__)
+    _folder(run, args, checkpoint)
+    span = (run.t_end - t_now) if run.t_end is not None else run.steps * cfg.dt  # adaptive steps are at most dt
+    check_series(run.out / f"{cfg.scene}.xdmf", cfg.nodes, int(math.ceil(span / run.every)) + 2)
     return run
 
 
-def simulate(run: Run, progress: bool = False):
-    """Run a prepared run; returns (RunResult, XDMFWriter, list of written checkpoints)."""
+def _fits(path, checkpoint, cfg, backend, stepper) -> None:
+    """_Error naming the first field in which the run asked for differs from the checkpoint's."""
+    base = scenes.read_toml_text(checkpoint["config"], source=path)
+    diff = _differences(cfg, base)
+    if checkpoint["backend"] != backend:
+        diff.insert(0, f"backend = {backend!r} vs {checkpoint['backend']!r}")
+    scheme = scenes.run_table(checkpoint["config"], path).get("scheme")
+    if scheme is not None and scheme != stepper.scheme:
+        diff.append(f"scheme = {stepper.scheme!r} vs {scheme!r}")
+    if checkpoint["dt"] != cfg.dt:
+        diff.append(f"dt = {cfg.dt!r} vs {checkpoint['dt']!r}")
+    if diff:
+        more = f" (and {len(diff) - 1} more)" if len(diff) > 1 else ""
+        raise _Error(f"resume file {str(path)!r} does not fit the run asked for: {diff[0]} (asked for vs the "
+                     f"checkpoint's){more}", field=diff[0].split(" =")[0], value=path)
+    X = checkpoint["X"]
+    if X.shape != (stepper.model.ndof, 3):
+        raise _Error(f"resume file {str(path)!r} holds states of shape {X.shape}, the scene has "
+                     f"({stepper.model.ndof}, 3)", field="resume", value=path)
+
+
+def _folder(run: Run, args, checkpoint) -> None:
+    """The output folder (checked, not yet claimed) and the series a resumed run continues."""
     cfg = run.config
-    config_text = scenes.to_toml(cfg)
-    (run.out / f"{cfg.scene}.toml").write_text(config_text)
-    meta = dict(scene=cfg.scene, config=config_text, backend=run.backend, dt=cfg.dt, nodes=cfg.nodes)
-    writer = XDMFWriter(run.out / f"{run.stem}.xdmf", every=run.every)
-    energy = EnergyMonitor(every=run.every)
-    trackers = [writer, energy]
-    ckpt = None
-    if run.ck_every:
-        ckpt = CheckpointWriter(run.out, f"{cfg.scene}-checkpoint", run.ck_every, run.X0, **meta)
-        trackers.append(ckpt)
-    result = run.stepper.run(run.X0, steps=run.steps, trackers=trackers, progress=progress, resume=run.start)
-    written = list(ckpt.written) if ckpt else []
-    if result.status == "diverged":
-        written.append(save_checkpoint(run.out / f"{cfg.scene}-diverged.npz", result.state, run.X0, **meta))
+    run.series = None
+    if checkpoint is not None:
+        home = Path(args.resume).resolve().parent
+        out = Path(args.out) if args.out else home
+        source = home / f"{cfg.scene}.xdmf"
+
+        def own(folder):  # the checkpoint's own folder, whose config is the run's (but for t_end)
+            path = Path(folder) / f"{cfg.scene}.toml"
+            try:
+                mine = scenes.read_toml(path)
+                theirs = scenes.run_table(path.read_text(), str(path)).get("backend", run.backend)
+            except (InputError, OSError):
+                return False
+            return not _differences(mine, cfg) and theirs == run.backend
+
+        if source.is_file() and own(home):
+            run.series = source
+        elif source.is_file():
+            log.warning("the series %s is not this run's (its config differs): the resumed run starts a new series",
+                        source)
+        run.folder = RunFolder(out, overwrite=args.overwrite, own=own)
+    else:
+        out = Path(args.out) if args.out else fresh(Path("runs") / cfg.scene)
+        run.folder = RunFolder(out, overwrite=args.overwrite)
+    run.folder.check()
+    run.out = run.folder.path
+
+
+def simulate(run: Run, progress: bool = False):
+    """Run a prepared run; returns (RunResult, XDMFWriter, EnergyMonitor, list of written checkpoints)."""
+    cfg = run.config
+    with run.folder:
+        config_text = scenes.to_toml(cfg, run.settings)
+        write_text(run.out / f"{cfg.scene}.toml", config_text)
+        meta = dict(scene=cfg.scene, config=config_text, backend=run.backend, dt=cfg.dt, nodes=cfg.nodes)
+        path = run.out / f"{cfg.scene}.xdmf"
+        if run.series is not None and run.series.resolve() != path.resolve():
+            for src in (run.series, run.series.with_suffix(".h5")):
+                shutil.copyfile(src, run.out / src.name)
+        writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None)
+        energy = EnergyMonitor(every=max(1, int(round(run.every / cfg.dt))))
+        trackers = [writer, energy]
+        ckpt = None
+        if run.ck_every:
+            ckpt = CheckpointWriter(run.out, f"{cfg.scene}-checkpoint", run.ck_every, run.X0, **meta)
+            trackers.append(ckpt)
+        try:
+            result = run.stepper.run(run.X0, steps=run.steps, t_end=run.t_end, trackers=trackers, progress=progress,
+                                     resume=run.start)
+        finally:
+            writer.close()
+        written = list(ckpt.written) if ckpt else []
+        if result.status == "diverged":
+            written.append(save_checkpoint(run.out / f"{cfg.scene}-diverged.npz", result.state, run.X0, **meta))
     return result, writer, energy, written
 
 
 def execute(args) -> int:
     """``deformable run``: returns 0 when the run finished, 1 when it diverged."""
+    quiet = getattr(args, "quiet", False)
     run = prepare(args)
     t0 = time.perf_counter()
-    result, writer, energy, written = simulate(run, progress=True)
+    result, writer, energy, written = simulate(run, progress=not quiet)
     e = run.model.energy(result.state.X)
     kinetic = run.model.kinetic_energy(result.state.V)
     wall = time.perf_counter() - t0
@@ -237,12 +426,13 @@ def execute(args) -> int:
         print(f"{cfg.scene}: {result.message}; kept {writer.frames} frames in {writer.path}, "
               f"last good state (t = {result.state.t:.6g} s) in {written[-1]}", file=sys.stderr)
     if run.render:
-        pngs = render_series(writer.path, run.out / "frames", field=run.field,
+        pngs = render_series(writer.path, run.out / "frames", field=run.field, progress=not quiet,
                              title=f"{cfg.scene} ({run.backend}, {cfg.nodes[0]}x{cfg.nodes[1]})")
-        if pngs:
+        if pngs and not quiet:
             print(f"rendered {len(pngs) - 1} frames and {pngs[-1]}")
-    print(f"{cfg.scene}: {result.status}, {result.steps} steps to t = {result.state.t:.6g} s "
-          f"(dt = {cfg.dt:g} s, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}) in {wall:.1f} s wall; "
-          f"energy: stretching {e.stretching:.4g} J, bending {e.bending:.4g} J, kinetic {kinetic:.4g} J; "
-          f"{writer.frames} frames in {writer.path}")
+    if not quiet:
+        print(f"{cfg.scene}: {result.status}, {result.steps} steps to t = {result.state.t:.6g} s "
+              f"(dt = {cfg.dt:g} s, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}, {run.stepper.scheme}) in "
+              f"{wall:.1f} s wall; energy: stretching {e.stretching:.4g} J, bending {e.bending:.4g} J, kinetic "
+              f"{kinetic:.4g} J; {writer.frames} frames in {writer.path}")
     return 0 if result.status != "diverged" else 1

@@ -58,6 +58,7 @@ from validation.harness.runner import Runner, counted, duration
 from validation.harness.sweep import MEASURES, STATUSES, Sweep, write_outputs
 
 from .run import parse_grid
+from .validate import check_jobs, executor_options
 
 __all__ = ["configure", "execute", "parse_axis", "parse_sweep"]
 
@@ -73,13 +74,9 @@ def configure(parser) -> None:
                         "one value is a fixed override (e.g. nodes=16x16 t_end=0.5)")
     parser.add_argument("--backend", default="fd", help="fd, fe or fd,fe (default: fd)")
     parser.add_argument("--measure", default=None, metavar="NAME,...",
-                        help=f"extra columns, at the end of each run: {', '.join(MEASURES)}")
+                        help=f"extra columns, at the end of each run: {', '.join(MEASURES)} (default: none)")
     parser.add_argument("--out", default=None, metavar="DIR", help="output folder (default: sweeps/<scene>)")
-    where = parser.add_mutually_exclusive_group()
-    where.add_argument("--jobs", type=int, default=1, metavar="N", help="local worker processes (default: 1)")
-    where.add_argument("--scheduler", default=None, metavar="SPEC",
-                       help="run on Dask: local:N (a LocalCluster of N workers), tcp://HOST:PORT (a running "
-                       "scheduler) or a scheduler file; needs pip install \".[distributed]\"")
+    executor_options(parser)
     parser.add_argument("--fail-on-error", action="store_true",
                         help="exit 1 when a case did not finish (diverged, failed, ...)")
     parser.add_argument("--compare-serial", action="store_true",
@@ -186,7 +183,8 @@ def execute(args) -> int:
     """``deformable sweep``: 0, or 1 with --fail-on-error when a case did not finish (or --compare-serial differed)."""
     base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
     sweep = parse_sweep(base, args.values, args.backend, args.measure)
-    runner = Runner(args.jobs, progress=True, scheduler=args.scheduler)
+    runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
+                    scheduler=args.scheduler)
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
     command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))

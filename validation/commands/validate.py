@@ -19,9 +19,12 @@ code is 1 when any check failed, 0 otherwise.
 from __future__ import annotations
 
 import logging
+import os
 import sys
 import time
 
+from deformable.checks import count
+from deformable.errors import InputError
 from validation.harness.report import writable_folder, write_index, write_study
 from validation.harness.runner import Runner
 from validation.studies import STUDIES, get_study
@@ -40,35 +43,58 @@ def configure(parser) -> None:
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--quick", dest="mode", action="store_const", const="quick",
                       help="quick levels (default; every study in under two minutes in all)")
-    mode.add_argument("--full", dest="mode", action="store_const", const="full", help="fine levels")
+    mode.add_argument("--full", dest="mode", action="store_const", const="full", help="fine levels (default: off)")
     parser.set_defaults(mode="quick")
     parser.add_argument("--levels", type=int, default=None, metavar="K",
-                        help="number of refinement levels (overrides --quick/--full; each study states its range)")
+                        help="number of refinement levels (overrides --quick/--full; each study states its range) "
+                        "(default: the mode's)")
     parser.add_argument("--surfaces", default=None, metavar="S,...",
-                        help="comma-separated analytic surfaces for the studies that take them")
+                        help="comma-separated analytic surfaces for the studies that take them (default: each "
+                        "study's own)")
     parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default: reports)")
+    executor_options(parser)
+
+
+def executor_options(parser) -> None:
+    """``--jobs N`` | ``--scheduler SPEC``, and ``--oversubscribe``: where the cases run (validate, sweep)."""
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--jobs", type=int, default=1, metavar="N", help="worker processes (default: 1)")
+    where.add_argument("--jobs", type=int, default=1, metavar="N",
+                       help=f"local worker processes, at most the {os.cpu_count() or 1} cores (default: 1)")
     where.add_argument("--scheduler", default=None, metavar="SPEC",
-                       help="run the cases on Dask: local:N (a LocalCluster of N workers), tcp://HOST:PORT or a "
-                       "scheduler file; needs pip install \".[distributed]\"")
+                       help="run the cases on Dask: local:N (a LocalCluster of N workers), tcp://HOST:PORT (a running "
+                       "scheduler) or a scheduler file; needs pip install \".[distributed]\" (default: none, local "
+                       "processes)")
+    parser.add_argument("--oversubscribe", action="store_true",
+                        help="allow --jobs above the number of cores (default: off)")
+
+
+def check_jobs(jobs, oversubscribe: bool = False) -> int:
+    """``jobs`` as an int in [1, cores] (any positive count when ``oversubscribe``); InputError otherwise."""
+    cores = os.cpu_count() or 1
+    jobs = count("--jobs", jobs)
+    if jobs > cores and not oversubscribe:
+        raise InputError(f"--jobs {jobs} exceeds the {cores} cores of this machine; give --oversubscribe to start more "
+                         "workers than cores", field="--jobs", value=jobs)
+    return jobs
 
 
 def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None, out="reports", jobs: int = 1,
-        progress: bool = True, scheduler: str | None = None):
+        progress: bool = True, oversubscribe: bool = False, scheduler: str | None = None):
     """Run studies and write their reports; returns the list of StudyResult.
 
-    ``jobs`` local processes, or ``scheduler`` (:class:`~validation.harness.runner.Runner`) for Dask.
-    All arguments are checked before anything runs (ValueError otherwise).
+    ``jobs`` local processes (at most the number of cores unless ``oversubscribe``), or ``scheduler``
+    (:class:`~validation.harness.runner.Runner`) for Dask. All arguments are checked before anything runs
+    (InputError, a ValueError, otherwise).
     """
     from validation.harness import surfaces as sf
 
+    jobs = check_jobs(jobs, oversubscribe)
     studies = [get_study(n) for n in (names or [n for n, s in STUDIES.items() if s.in_default])]
     counts = [s.levels.resolve(s.name, mode, levels) for s in studies]
     if surfaces is not None:
         surfaces = [s.strip() for s in surfaces.split(",")] if isinstance(surfaces, str) else list(surfaces)
         if not surfaces or not all(surfaces):
-            raise ValueError("--surfaces needs at least one surface name")
+            raise InputError("--surfaces needs at least one surface name")
         for s in surfaces:
             sf.get(s)
     runner = Runner(jobs, progress=progress, scheduler=scheduler)
@@ -90,11 +116,13 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
 def execute(args) -> int:
     """Entry point of ``deformable validate``: 0 if every check passed, 1 otherwise."""
     t0 = time.perf_counter()
+    quiet = getattr(args, "quiet", False)
     results = run(args.studies, args.mode, args.levels, args.surfaces, args.out, args.jobs,
-                  progress=sys.stderr.isatty(), scheduler=args.scheduler)
+                  progress=sys.stderr.isatty() and not quiet, oversubscribe=args.oversubscribe,
+                  scheduler=args.scheduler)
     passed = sum(r.passed for r in results)
     failed = sum(r.failed for r in results)
-    for r in results:
+    for r in results if not quiet else ():
         print(f"{r.study:14s} {r.passed:4d} passed {r.failed:3d} failed  {r.wall_time:6.1f} s")
     print(f"{passed} checks passed, {failed} failed in {time.perf_counter() - t0:.1f} s; reports in {args.out}/")
     return 0 if failed == 0 else 1

@@ -6,6 +6,8 @@ backend name into a model.
 
 from __future__ import annotations
 
+from deformable.errors import InputError
+
 __all__ = ["BACKENDS", "make_model", "backend_dt"]
 
 BACKENDS = ("fd", "fe")
@@ -24,7 +26,7 @@ def make_model(scene, backend: str, **options):
         from femodel import FEModel
 
         return FEModel(scene, **options)
-    raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
 
 
 def backend_dt(model, dt: float) -> float:

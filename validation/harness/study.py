@@ -32,6 +32,8 @@ from typing import Callable
 
 import numpy as np
 
+from deformable.errors import InputError
+
 from .runner import Runner
 
 __all__ = ["Check", "Table", "Line", "Panel", "Figure", "StudyResult", "Levels", "Study", "ORDER_WINDOW",
@@ -206,7 +208,11 @@ def nodes_at(level: int, coarsest: int) -> int:
 
 @dataclass(frozen=True)
 class Levels:
-    """Level counts of a study: ``quick`` and ``full`` defaults, and the accepted range."""
+    """Level counts of a study: ``quick`` and ``full`` defaults, and the accepted range.
+
+    ``minimum`` is the fewest levels at which every check of the study can pass (an order window needs
+    levels in the asymptotic range); fewer are refused rather than reported as a failed check.
+    """
 
     quick: int
     full: int
@@ -217,10 +223,11 @@ class Levels:
         """The number of levels to run; ValueError naming the accepted range otherwise."""
         if count is None:
             if mode not in ("quick", "full"):
-                raise ValueError(f"unknown level set {mode!r}; expected 'quick' or 'full'")
+                raise InputError(f"unknown level set {mode!r}; expected 'quick' or 'full'", field="mode", value=mode)
             return self.quick if mode == "quick" else self.full
         if isinstance(count, bool) or int(count) != count or not self.minimum <= count <= self.maximum:
-            raise ValueError(f"study {study!r} runs {self.minimum} to {self.maximum} levels, got {count!r}")
+            raise InputError(f"study {study!r} runs {self.minimum} to {self.maximum} levels, got {count!r}",
+                             field="--levels", value=count)
         return int(count)
 
 

@@ -271,5 +271,7 @@ def _figures(series, names) -> list[Figure]:
     return figs
 
 
+# at least 4 levels: over 3 the slope of the skew surface's FE G22 at 4x4 Gauss points is 3.34, outside the
+# window [2.7, 3.3] (the coarsest level, 9 nodes a side, is not yet in the asymptotic range)
 STUDY = Study("tensors", "G_ij and B_ij errors of FD and FE on analytic surfaces; observed orders against theory",
-              Levels(quick=4, full=6, minimum=3, maximum=8), fill, surfaces=True)
+              Levels(quick=4, full=6, minimum=4, maximum=8), fill, surfaces=True)

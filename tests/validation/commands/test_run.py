@@ -14,13 +14,13 @@ FIELDS = {"G11", "G12", "G22", "B11", "B12", "B22", "speed", "energy_density", "
 
 
 def _run(argv, capsys):
-    code = main(["run", *argv])
+    code = main(["run", *map(str, argv)])
     out = capsys.readouterr()
     return code, out.out, out.err
 
 
 def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
-    code, out, err = _run(["flag", "--grid", "12x10", "--steps", "30", "--every", "10", "--out", str(tmp_path)],
+    code, out, err = _run(["flag", "--grid", "12x10", "--steps", "30", "--every", "0.05", "--out", str(tmp_path)],
                           capsys)
     assert code == 0, err
     assert "flag: finished, 30 steps to t = 0.15 s" in out and "energy" in out
@@ -34,7 +34,8 @@ def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
             assert FIELDS <= set(data) and all(np.all(np.isfinite(v)) for v in data.values())
     assert times == pytest.approx([0.0, 0.05, 0.1, 0.15], abs=1e-12)
     assert np.abs(data["displacement"]).max() > 0 and data["speed"].max() > 0
-    assert (tmp_path / "flag.toml").read_text().startswith("# resolved scene config")
+    text = (tmp_path / "flag.toml").read_text()
+    assert text.startswith("# resolved scene config") and "t_end = 0.15\n" in text and "steps = 30\n" in text
 
 
 def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, capsys):
@@ -49,7 +50,7 @@ def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, cap
 
 def test_render_writes_pngs_and_a_gif(tmp_path, capsys):
     """The frames themselves are checked in tests/deformable/output/test_render.py."""
-    code, out, err = _run(["hanging", "--grid", "8x8", "--steps", "4", "--every", "2", "--render", "--field",
+    code, out, err = _run(["hanging", "--grid", "8x8", "--steps", "4", "--every", "0.01", "--render", "--field",
                            "energy_density", "--out", str(tmp_path)], capsys)
     assert code == 0, err
     pngs = sorted((tmp_path / "frames").glob("frame-*.png"))
@@ -73,7 +74,7 @@ def test_a_resumed_run_is_bit_identical(tmp_path, capsys):
 def test_a_diverging_run_stops_keeps_its_frames_and_checkpoints_the_last_good_state(tmp_path, capsys):
     # the paper's force at a dt far beyond its stretching bound h sqrt(mu / (2 eta G)) (docs/design.md, "Findings")
     code, out, err = _run(["hanging", "--force-model", "tpbf87", "--grid", "12x12", "--dt", "0.02", "--steps", "200",
-                           "--every", "1", "--out", str(tmp_path)], capsys)
+                           "--every", "0.02", "--out", str(tmp_path)], capsys)
     assert code == 1
     assert "diverged at step" in err and len(err.strip().splitlines()) == 1
     ck = load_checkpoint(tmp_path / "hanging-diverged.npz")
@@ -120,12 +121,12 @@ def _bad_cases(tmp_path, ck):
         "unwritable output": (["flag", "--out", str(blocker / "sub")], "cannot write to output folder"),
         "unknown backend": (["flag", "--backend", "fv"], "unknown backend 'fv'"),
         "unknown field": (["flag", "--field", "colour"], "unknown field 'colour'"),
-        "resume other scene": (["curtain", "--resume", str(ck)], "holds scene 'flag', not 'curtain'"),
-        "resume other grid": (["flag", "--grid", "12x12", "--resume", str(ck)], "has nodes = (10, 10)"),
-        "resume other dt": (["flag", "--dt", "5e-4", "--resume", str(ck)], "has dt = 0.005"),
+        "resume other scene": (["curtain", "--resume", str(ck)], "scene = 'curtain' vs 'flag'"),
+        "resume other grid": (["flag", "--grid", "12x12", "--resume", str(ck)], "nodes = (12, 12) vs (10, 10)"),
+        "resume other dt": (["flag", "--grid", "10x10", "--dt", "5e-4", "--resume", str(ck)], "dt = 0.0005 vs 0.005"),
         "resume not a checkpoint": (["flag", "--resume", str(junk)], "cannot read checkpoint"),
         "resume missing": (["flag", "--resume", str(tmp_path / "none.npz")], "cannot read checkpoint"),
-        "resume past the end": (["flag", "--steps", "1", "--resume", str(ck)], "nothing to do"),
+        "resume past the end": (["--steps", "1", "--resume", str(ck)], "nothing to do"),
     }
 
 
@@ -177,3 +178,112 @@ def test_under_the_papers_force_a_backend_picks_its_own_step_where_the_scenes_is
     cfg = scenes.read_toml(tmp_path / "hanging.toml")
     bound = make_model(scenes.build(cfg), "fe").stable_step()
     assert bound < scenes.config("hanging").dt and cfg.dt <= 0.5 * bound
+
+
+# -- reproducible runs (issue 16, point 2) -------------------------------------------------------------
+def _frames(xdmf):
+    """(t, points, point data) of every frame of a series."""
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as reader:
+        points, _ = reader.read_points_cells()
+        return [(t, points, data) for t, data, _ in (reader.read_data(k) for k in range(reader.num_steps))]
+
+
+def _assert_same_series(a, b):
+    fa, fb = _frames(a), _frames(b)
+    assert len(fa) == len(fb) > 1
+    for (ta, pa, da), (tb, pb, db) in zip(fa, fb):
+        assert ta == tb and set(da) == set(db)
+        np.testing.assert_array_equal(pa, pb)
+        for name in da:
+            np.testing.assert_array_equal(da[name], db[name], err_msg=f"{name} at t = {ta}")
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_rerunning_the_resolved_config_reproduces_the_run_bit_for_bit(backend, tmp_path, capsys):
+    first, again = tmp_path / "first", tmp_path / "again"
+    code, _, err = _run(["hanging", "eta=25", "xi=2e-5", "--grid", "6x6", "--backend", backend, "--scheme", "newmark",
+                         "--t-end", "0.03", "--every", "0.01", "--out", first], capsys)
+    assert code == 0, err
+    text = (first / "hanging.toml").read_text()
+    for line in ("eta = 25.0", "xi = 2e-05", "nodes = [6, 6]", "t_end = 0.03", "[run]", f'backend = "{backend}"',
+                 'scheme = "newmark"', "every = 0.01", 'version = "'):
+        assert line in text, text
+    code, out, err = _run([first / "hanging.toml", "--out", again], capsys)
+    assert code == 0, err
+    assert f"{backend}, newmark" in out
+    _assert_same_series(first / "hanging.xdmf", again / "hanging.xdmf")
+    assert (again / "hanging.toml").read_text() == text
+
+
+def test_key_value_sets_any_scene_field(tmp_path, capsys):
+    code, _, err = _run(["flag", "wind=5", "coil=12.5", "nodes=[6,5]", "force_model=variational", "shear=0.5",
+                         "--steps", "2", "--out", tmp_path], capsys)
+    assert code == 0, err
+    cfg = scenes.read_toml(tmp_path / "flag.toml")
+    assert (cfg.wind, cfg.coil, cfg.nodes, cfg.shear) == (5.0, 12.5, (6, 5), 0.5)
+
+
+@pytest.mark.parametrize("model, end", [("variational", ["--steps", "8"]),
+                                        ("tpbf87", ["--t-end", "0.037"])])  # 7 steps of 5 ms and one of 2 ms
+def test_a_resumed_run_continues_the_same_series_frame_by_frame(model, end, tmp_path, capsys):
+    """Killed after step 5 with a checkpoint at step 3: the resumed series (in place, and copied into another
+    folder) equals the uninterrupted one, displacement measured from the original start."""
+    full, part, other = tmp_path / "full", tmp_path / "part", tmp_path / "other"
+    base = ["curtain", "--force-model", model, "--grid", "8x8", "--every", "0.01", "--checkpoint-every", "3"]
+    assert _run(base + [*end, "--out", full], capsys)[0] == 0
+    assert _run(base + ["--steps", "5", "--out", part], capsys)[0] == 0
+    code, _, err = _run([*end, "--resume", part / "curtain-checkpoint-0000003.npz", "--out", other], capsys)
+    assert code == 0, err
+    code, _, err = _run(base + [*end, "--resume", part / "curtain-checkpoint-0000003.npz"], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in part.glob("*.xdmf")) == ["curtain.xdmf"]
+    _assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
+    _assert_same_series(full / "curtain.xdmf", other / "curtain.xdmf")
+
+
+# -- output (issue 16, point 3) ------------------------------------------------------------------------
+def test_frames_every_so_many_simulated_seconds_at_exact_times(tmp_path, capsys):
+    """The same frames on both backends although FE steps at its own, shorter dt; times without round-off."""
+    times = {}
+    for backend in ("fd", "fe"):
+        out = tmp_path / backend
+        code, _, err = _run(["hanging", "--backend", backend, "--grid", "6x6", "--t-end", "0.1", "--every", "0.025",
+                             "--out", out], capsys)
+        assert code == 0, err
+        dt = scenes.read_toml(out / "hanging.toml").dt
+        times[backend] = [t for t, _, _ in _frames(out / "hanging.xdmf")]
+        targets = [0.0, 0.025, 0.05, 0.075, 0.1]
+        assert len(times[backend]) == len(targets)
+        assert all(0 <= t - g < dt for t, g in zip(times[backend], targets))
+        assert times[backend][-1] == 0.1
+    assert times["fd"] == [0.0, 0.025, 0.05, 0.075, 0.1]
+
+
+def test_the_output_api_is_public_and_creates_its_folders(tmp_path):
+    import deformable as dm
+
+    model = make_model(scenes.hanging(nodes=(5, 5)), "fd")
+    series = tmp_path / "a" / "b" / "run.xdmf"
+    dm.TimeStepper(model, 5e-3).run(model.initial_state(), t_end=0.02, trackers=[dm.XDMFWriter(series, interval=0.01)])
+    cells, frames = dm.read_series(series)
+    assert [t for t, _, _ in frames] == [0.0, 0.01, 0.02] and cells.shape == (16, 4)
+
+
+# -- command-line polish (issue 16, point 6) -----------------------------------------------------------
+def test_every_option_of_every_command_states_its_default():
+    from validation.commands import _Help
+
+    parser = build_parser()
+    subs = next(a for a in parser._actions if a.dest == "command").choices
+    missing = []
+    for name, sub in {"deformable": parser, **subs}.items():
+        for action in sub._actions:
+            if action.option_strings and action.nargs != 0:
+                if "default" not in _Help(name)._get_help_string(action):
+                    missing.append(f"{name} {action.option_strings[-1]}")
+    assert set(subs) == {"run", "check", "validate", "bench", "sweep"} and missing == [], missing
+
+
+def test_quiet_prints_nothing_but_errors(tmp_path, capsys):
+    code, out, err = _run(["flag", "--grid", "6x6", "--steps", "2", "--out", tmp_path, "--quiet"], capsys)
+    assert code == 0 and out == "" and err == ""

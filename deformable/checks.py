@@ -1,0 +1,98 @@
+r"""Checks of single values at construction time, each failing with an :class:`~deformable.errors.InputError`
+that names the field and the refused value.
+
+Every constructor of the library checks its arguments before any work
+(docs/design.md, "Input"): numbers are real and finite (a bool or a string
+is not a number, ``"9.81"`` included), counts are integers, callables are
+callable. These helpers say each rule once.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["real", "count", "function", "finite_array", "vector", "sequence"]
+
+
+def real(field: str, value, *, positive: bool = False, non_negative: bool = False, low: float | None = None,
+         high: float | None = None) -> float:
+    """``value`` as a finite float; InputError unless it is a real number within the bounds.
+
+    ``positive``: > 0; ``non_negative``: >= 0; ``low``, ``high``: inclusive bounds.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise InputError(f"{field} must be a number, got {value!r}", field=field, value=value)
+    x = float(value)
+    if not math.isfinite(x):
+        raise InputError(f"{field} must be finite, got {value!r}", field=field, value=value)
+    if positive and not x > 0:
+        raise InputError(f"{field} must be positive, got {value!r}", field=field, value=value)
+    if non_negative and not x >= 0:
+        raise InputError(f"{field} must be non-negative, got {value!r}", field=field, value=value)
+    if (low is not None and x < low) or (high is not None and x > high):
+        raise InputError(f"{field} must lie in [{low}, {high}], got {value!r}", field=field, value=value)
+    return x
+
+
+def count(field: str, value, *, minimum: int = 1, maximum: int | None = None) -> int:
+    """``value`` as an int; InputError unless it is a whole number (not a bool) in [minimum, maximum]."""
+    kind = {0: "a non-negative integer", 1: "a positive integer"}.get(minimum, f"an integer of at least {minimum}")
+    if maximum is not None:
+        kind = f"an integer in [{minimum}, {maximum}]"
+    ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, numbers.Real)
+    if ok:
+        ok = math.isfinite(float(value)) and float(value) == int(value)
+    if not ok or int(value) < minimum or (maximum is not None and int(value) > maximum):
+        raise InputError(f"{field} must be {kind}, got {value!r}", field=field, value=value)
+    return int(value)
+
+
+def function(field: str, value, optional: bool = True):
+    """``value`` if it is callable (or None when ``optional``); InputError otherwise."""
+    if (value is None and optional) or callable(value):
+        return value
+    raise InputError(f"{field} must be a callable{' or None' if optional else ''}, got {value!r}",
+                     field=field, value=value)
+
+
+def finite_array(field: str, value) -> np.ndarray:
+    """``value`` as a non-empty float array of finite real numbers; InputError otherwise (no bools, no strings)."""
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting
+        arr = None
+    if arr is None or arr.dtype.kind not in "iuf" or arr.size == 0:
+        raise InputError(f"{field} must be a number or a non-empty array of numbers, got {value!r}",
+                         field=field, value=value)
+    arr = arr.astype(float)
+    if not np.all(np.isfinite(arr)):
+        bad = arr[~np.isfinite(arr)].flat[0]
+        raise InputError(f"{field} must be finite, got {bad!r}", field=field, value=value)
+    return arr
+
+
+def vector(field: str, value, size: int, what: str) -> np.ndarray:
+    """``value`` as a float array of ``size`` finite real numbers; InputError saying it must be ``what``."""
+    try:
+        v = np.asarray(value)
+        v = v.astype(float) if v.dtype.kind in "iuf" else None
+    except (TypeError, ValueError):  # ragged nesting
+        v = None
+    if v is None or v.shape != (size,) or not np.all(np.isfinite(v)):
+        raise InputError(f"{field} must be {what}, got {value!r}", field=field, value=value)
+    return v
+
+
+def sequence(field: str, value, kinds: tuple, names: str) -> tuple:
+    """``value`` (a list or tuple of instances of ``kinds``) as a tuple; InputError naming the first misfit."""
+    if isinstance(value, kinds) or not isinstance(value, (list, tuple)):
+        raise InputError(f"{field} must be a list of {names}, got {value!r}", field=field, value=value)
+    for item in value:
+        if not isinstance(item, kinds):
+            raise InputError(f"{field}: {item!r} is not a {names}", field=field, value=item)
+    return tuple(value)
