@@ -71,6 +71,13 @@ class Scene:
     forces : sequence of Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind
     constraints : sequence of Pin, Slide, Clamp
     force_model : "tpbf87" | "frozen" | "variational"
+        The force of eq. (11). The default, "tpbf87", is the paper's force
+        (14)-(15) as written, so that a bare Scene is the paper's model; it is
+        not the gradient of the energy (13), has no linear bending stiffness
+        about a flat sheet and no stiffness in compression. For a physical
+        sheet choose "variational" (the exact gradient of eq. (13), stepped
+        implicitly) with full weight tensors, as the shipped scenes
+        (:mod:`deformable.scenes`), the command line and the README do.
     rest_metric, rest_curvature : optional
         G0 and B0 overriding those of the rest shape: a number s (s I), a
         symmetric 2 x 2 tensor, or a callable (a1, a2) -> (..., 2, 2).
