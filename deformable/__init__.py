@@ -4,7 +4,9 @@ This package holds what both backends discretise: the sheet, material,
 forces, constraints and scene, the tensors of eq. (4)-(8) and the elastic law
 of eq. (13)-(15), the backend contract, fixed-pattern sparse assembly, the time
 stepping of eq. (22)-(27) and the implicit schemes, static equilibrium, the
-paper's compatibility test and scenes. The backends are ``fdmodel.FDModel``
+paper's compatibility test and scenes, rigid obstacles and contact
+(:mod:`deformable.obstacles`, :mod:`deformable.contact`; the obstacle plane is
+``deformable.HalfSpace``, also ``deformable.obstacles.Plane``). The backends are ``fdmodel.FDModel``
 (finite differences) and ``femodel.FEModel`` (finite elements); the validation
 harness and the command line live in ``validation``. The design is in
 docs/design.md.
@@ -13,12 +15,14 @@ docs/design.md.
 from .backend import Backend, Energy, EnergyBackend, Sample
 from .compatibility import IncompatibleRestState, check_compatibility, check_rest_state
 from .constraints import Clamp, Pin, Slide, select
+from .contact import Contact, clearance
 from .dynamics import (SCHEMES, Callback, DivergenceError, DivergenceGuard, EnergyMonitor, ProgressBar, RunResult,
                        StalledError, State, Stop, TimeStepper, Tracker)
 from .equilibrium import equilibrium
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .material import Material
 from .newton import ConvergenceError
+from .obstacles import Box, Cylinder, HalfSpace, Sphere
 from .scene import FORCE_MODELS, Scene
 from .sheet import Sheet, Surface, as_surface
 from .tensors import curvature, gaussian_curvature, metric, normal
@@ -31,4 +35,5 @@ __all__ = [
     "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "FORCE_MODELS", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
+    "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder",
 ]
