@@ -7,8 +7,8 @@ from validation.studies import STUDIES, get_study
 
 def test_registry_holds_every_study_in_order():
     assert list(STUDIES) == ["tensors", "modes", "statics", "cross", "time", "compatibility", "work", "variational",
-                             "paper"]
-    assert not STUDIES["paper"].in_default  # its sweep runs on its own: deformable validate paper
+                             "paper", "contact"]
+    assert not STUDIES["paper"].in_default and not STUDIES["contact"].in_default  # its sweep runs on its own: deformable validate paper
     assert all(get_study(name) is study for name, study in STUDIES.items())
     with pytest.raises(ValueError, match="unknown study 'nope'; known: tensors"):
         get_study("nope")
