@@ -37,7 +37,8 @@ import time
 from pathlib import Path
 
 from deformable import scenes
-from deformable.dynamics import EnergyMonitor, State, TimeStepper
+from deformable.contact import clearance
+from deformable.dynamics import Callback, EnergyMonitor, State, TimeStepper
 from deformable.dynamics.stepper import round_down
 from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
 from deformable.output.render import FIELDS, render_series
@@ -213,6 +214,9 @@ def simulate(run: Run, progress: bool = False):
     writer = XDMFWriter(run.out / f"{run.stem}.xdmf", every=run.every)
     energy = EnergyMonitor(every=run.every)
     trackers = [writer, energy]
+    run.clearance = []  # with obstacles: the clearance after every step (m)
+    if run.scene.obstacles:
+        trackers.append(Callback(lambda s: run.clearance.append(clearance(run.model, s.X))))
     ckpt = None
     if run.ck_every:
         ckpt = CheckpointWriter(run.out, f"{cfg.scene}-checkpoint", run.ck_every, run.X0, **meta)
@@ -238,11 +242,18 @@ def execute(args) -> int:
               f"last good state (t = {result.state.t:.6g} s) in {written[-1]}", file=sys.stderr)
     if run.render:
         pngs = render_series(writer.path, run.out / "frames", field=run.field,
-                             title=f"{cfg.scene} ({run.backend}, {cfg.nodes[0]}x{cfg.nodes[1]})")
+                             title=f"{cfg.scene} ({run.backend}, {cfg.nodes[0]}x{cfg.nodes[1]})",
+                             obstacles=run.scene.obstacles)
         if pngs:
             print(f"rendered {len(pngs) - 1} frames and {pngs[-1]}")
     print(f"{cfg.scene}: {result.status}, {result.steps} steps to t = {result.state.t:.6g} s "
           f"(dt = {cfg.dt:g} s, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}) in {wall:.1f} s wall; "
           f"energy: stretching {e.stretching:.4g} J, bending {e.bending:.4g} J, kinetic {kinetic:.4g} J; "
           f"{writer.frames} frames in {writer.path}")
+    if run.clearance:
+        print(f"{cfg.scene}: smallest clearance over {len(run.clearance)} steps {min(run.clearance):.3g} m "
+              f"(final {run.clearance[-1]:.3g} m)")
+    report = scenes.SCENES[cfg.scene].report
+    if report is not None:
+        print(f"{cfg.scene}: {report(cfg, run.model, result.state.X)}")
     return 0 if result.status != "diverged" else 1

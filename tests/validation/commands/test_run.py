@@ -110,7 +110,7 @@ def _bad_cases(tmp_path, ck):
     junk = tmp_path / "junk.npz"
     junk.write_bytes(b"not a checkpoint")
     return {
-        "unknown scene": (["drape"], "unknown scene 'drape'"),
+        "unknown scene": (["tablecloth"], "unknown scene 'tablecloth'"),
         "unknown TOML key": ([str(toml)], "unknown key 'windd'"),
         "malformed grid": (["flag", "--grid", "32by32"], "malformed grid '32by32'"),
         "tiny grid": (["flag", "--grid", "2x8"], "at least 3 nodes"),
