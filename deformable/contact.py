@@ -74,7 +74,8 @@ from .assembly import BlockPattern, FixedPattern
 from .forces import Gravity
 from .obstacles import Obstacle
 
-__all__ = ["Contact", "METHODS", "ContactPoints", "subgrid", "ContactPotential", "Repulsion", "clearance", "contact_points",
+__all__ = ["Contact", "METHODS", "ContactPoints", "subgrid", "ContactPotential", "Repulsion", "clearance",
+           "contact_points",
            "barrier", "barrier_derivative", "barrier_second", "mollifier"]
 
 METHODS = ("barrier", "exponential")

@@ -217,7 +217,8 @@ def fill(res, levels: int, runner) -> None:
                   f"{angle:.2f} deg", stick)
     res.check_all("incline: slides above it", "acceleration within 2% of g (sin a - mu cos a)", slide)
     res.tables.append(Table("incline", f"A sheet on an inclined plane, mu_f = {FRICTION}",
-                            ("run", "g (sin a - mu cos a) (m/s^2)", "fitted acceleration (m/s^2)", "largest speed, 2nd half (m/s)",
+                            ("run", "g (sin a - mu cos a) (m/s^2)", "fitted acceleration (m/s^2)",
+                             "largest speed, 2nd half (m/s)",
                              "smallest clearance (m)"), rows))
     res.data["incline"] = [dict(zip(("run", "theory", "acceleration", "speed", "clearance"), r)) for r in rows]
 
@@ -251,7 +252,8 @@ def fill(res, levels: int, runner) -> None:
         dcs.setdefault(c.backend, []).append(r["dc"])
     for b in backends:
         changes = np.abs(np.diff(dcs[b]))
-        res.check(f"drape: {b.upper()} converges", "changes between levels fall", ", ".join(f"{d:.4f}" for d in changes),
+        res.check(f"drape: {b.upper()} converges", "changes between levels fall",
+                  ", ".join(f"{d:.4f}" for d in changes),
                   changes.size >= 2 and np.all(np.diff(changes) < 0))
     fd, fe = dcs["fd"][-1], dcs["fe"][-1]
     res.check("drape: FD and FE agree", "within 2% at the finest level", f"FD {fd:.4f}, FE {fe:.4f}",
