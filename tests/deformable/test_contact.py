@@ -220,3 +220,17 @@ def test_the_papers_exponential_force_does_not_stop_a_fast_sheet():
     lowest = []
     stepper.run(X, V0=V0, steps=10, trackers=[dm.Callback(lambda s: lowest.append(dm.clearance(model, s.X)))])
     assert min(lowest) < 0  # through the floor
+
+
+@pytest.mark.parametrize("backend, nodes", [("fd", (9, 9)), ("fe", (5, 5))])
+def test_static_equilibrium_rests_on_the_ball_outside_it(backend, nodes):
+    """A sheet pinned at its corners sags onto a ball: Newton's clipped steps keep it outside, in contact."""
+    ball = dm.Sphere(center=(0.5, 0.5, -0.2), radius=0.2)
+    sc = drop_scene(nodes, 0.02, obstacles=(ball,), xi=np.full((2, 2), 1e-3))
+    sc = dm.Scene(sc.sheet, sc.material, forces=sc.forces, force_model="variational", obstacles=sc.obstacles,
+                  contact=sc.contact, constraints=[dm.Pin(["top-left", "top-right", "bottom-left", "bottom-right"])])
+    model = make_model(sc, backend)
+    X, history = dm.equilibrium(model, model.initial_state())
+    gap = dm.clearance(model, X)
+    assert 0 < gap < sc.contact.distance, f"clearance {gap:.3g} m"  # resting on the ball, within the barrier
+    assert history[-1] <= 1e-6 * history[0]
