@@ -7,8 +7,9 @@ The camera is fixed for the whole series and frames the union of the sheet's
 bounding boxes over all frames; the colour range of the chosen field is fixed
 over the series too, so frames compare. A scene's obstacles
 (:mod:`deformable.obstacles`) are drawn in grey in every frame: a plane as a
-square patch under the sheet's extent, spheres and capped cylinders as they
-are, boxes as sharp boxes (a rounding of a few millimetres does not show).
+square patch under the sheet's extent, spheres as they are, rounded boxes and
+cylinders as their sharp cores (the solid less its rounding), so that a cloth
+resting on a rounded rim is not drawn cut by a sharp one.
 
 Headless machines: VTK falls back from an X window to EGL when no display is
 there, and logs a warning first; choosing EGL up front
@@ -69,11 +70,12 @@ def obstacle_mesh(obstacle, bounds: np.ndarray):
     kind = obstacle.kind
     if kind == "sphere":
         return pv.Sphere(radius=obstacle.radius, center=obstacle.center, theta_resolution=64, phi_resolution=64)
+    r = getattr(obstacle, "rounding", 0.0)  # a rounded solid is drawn as its sharp core, never outside it
     if kind == "cylinder":
-        return pv.Cylinder(center=obstacle.center, direction=obstacle.axis, radius=obstacle.radius,
-                           height=obstacle.height, resolution=96, capping=True)
+        return pv.Cylinder(center=obstacle.center, direction=obstacle.axis, radius=obstacle.radius - r,
+                           height=obstacle.height - 2 * r, resolution=96, capping=True)
     if kind == "box":
-        lo, hi = obstacle.lower, obstacle.upper
+        lo, hi = np.asarray(obstacle.lower) + r, np.asarray(obstacle.upper) - r
         return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
     if kind == "plane":
         n = np.asarray(obstacle.normal)
