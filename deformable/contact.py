@@ -75,7 +75,7 @@ from .forces import Gravity
 from .obstacles import Obstacle
 
 __all__ = ["Contact", "METHODS", "ContactPoints", "subgrid", "ContactPotential", "Repulsion", "clearance",
-           "contact_points",
+           "require_outside", "contact_points",
            "barrier", "barrier_derivative", "barrier_second", "mollifier"]
 
 METHODS = ("barrier", "exponential")
@@ -343,6 +343,19 @@ def contact_points(model, samples: int | None = None) -> ContactPoints:
     return cache[samples]
 
 
+def require_outside(model, X: np.ndarray, what: str = "the state") -> None:
+    """Raise a ValueError naming the deepest contact point when one of X (ndof, 3) is not strictly outside every
+    obstacle of the scene (the barrier is infinite there: no step can start from such a state)."""
+    r = contact_points(model).positions(np.asarray(X, float))
+    for k, obstacle in enumerate(model.scene.obstacles):
+        d = obstacle.distance(r)
+        p = int(np.argmin(d))
+        if d[p] <= 0:
+            a = contact_points(model).a[p]
+            raise ValueError(f"{what}: contact point a = ({a[0]:.4g}, {a[1]:.4g}) m lies {-d[p]:.3g} m inside "
+                             f"obstacle {k} ({obstacle.kind}); every contact point must start outside every obstacle")
+
+
 def clearance(model, X: np.ndarray, obstacles=None) -> float:
     """The smallest signed distance from the sheet's contact points to the obstacles (m); negative: penetration.
 
@@ -413,14 +426,12 @@ class ContactPotential:
         Raises ValueError when a contact point of x is not strictly outside an obstacle (the barrier is
         infinite there).
         """
-        r = self._positions(np.asarray(x, float))
+        x = np.asarray(x, float)
+        require_outside(self.model, x.reshape(3, self.n).T, "the step's start")
+        r = self._positions(x)
         self._lagged, self._eps = [], self.settings.slip * dt
         for k, obstacle in enumerate(self.obstacles):
             d, nrm, _ = obstacle.derivatives(r, hessian=False)
-            if np.min(d) <= 0:
-                p = int(np.argmin(d))
-                raise ValueError(f"contact point a = {tuple(self.points.a[p])} lies {-d[p]:.3g} m inside "
-                                 f"obstacle {k} ({obstacle.kind}): a state must start outside every obstacle")
             if self.settings.friction == 0:
                 continue
             on = np.flatnonzero(d < self.dhat)

@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 from deformable import scenes
-from deformable.contact import clearance
+from deformable.contact import clearance, require_outside
 from deformable.dynamics import Callback, EnergyMonitor, State, TimeStepper
 from deformable.dynamics.stepper import round_down
 from deformable.output import CheckpointWriter, XDMFWriter, load_checkpoint, save_checkpoint
@@ -186,6 +186,11 @@ def prepare(args) -> Run:
     else:
         X0 = model.initial_state()
         run.start = None
+    if scene.obstacles:  # a start inside an obstacle cannot be stepped: refused before anything is written
+        try:
+            require_outside(model, X0 if run.start is None else run.start.X, "the start")
+        except ValueError as err:
+            raise _Error(str(err)) from None
     t_now = 0.0 if run.start is None else run.start.t
     step_now = 0 if run.start is None else run.start.step
     if steps is not None:
