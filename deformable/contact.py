@@ -10,6 +10,9 @@ too. Each point maps to the degrees of freedom by a fixed sparse matrix W
 (P, ndof), ``r(a_p) = W X`` (the backend hook ``point_matrix``), and stands
 for an area A_p (m^2): FD's own node areas (those of its mass, so that every
 node's barrier carries its own weight), the trapezoidal rule on FE's sub-grid.
+Non-penetration is guaranteed at the contact points: between them the surface
+may cut a curved obstacle by its chord's sag, about h^2 / (8 R) for FD's
+bilinear cells of side h over a radius R (``Contact(samples=2)`` quarters it).
 
 The barrier (implicit schemes; Li et al. 2020, "Incremental Potential
 Contact", ACM TOG 39(4), eq. (6)). With d_pk the signed distance of point p

@@ -12,9 +12,9 @@ the outward unit normal and ``hess d = (I - n n^T)(I - DP_K) / |x - P_K(x)|``,
 positive semi-definite with ``hess d n = 0``. The shapes:
 
 - :class:`HalfSpace` ``(point, normal)``: K the half-space itself (r = 0),
-  d = n . (x - p); reached as ``deformable.obstacles.Plane`` too (the name
-  ``deformable.Plane``-like surfaces of :mod:`deformable.sheet` are rest
-  shapes, not obstacles);
+  d = n . (x - p); also reached as ``deformable.obstacles.Plane`` (the
+  :class:`deformable.sheet.Plane` of the rest shapes is another thing, a
+  surface, not an obstacle);
 - :class:`Sphere` ``(center, radius)``: K a point, r the radius;
 - :class:`Box` ``(lower, upper, rounding)``: an axis-aligned box with edges
   and corners rounded by ``rounding``; K the box shrunk by it;
