@@ -51,6 +51,8 @@ from typing import ClassVar
 
 import numpy as np
 
+from .forces import _vector as finite_vector
+
 __all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table"]
 
 #: Newton iterations of :meth:`Obstacle.first_contact` (quadratic convergence needs a handful)
@@ -58,12 +60,7 @@ _ROOT_ITERATIONS = 60
 
 
 def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
-    try:
-        v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        v = None
-    if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{owner}.{name} must be a finite 3-vector, got {value!r}")
+    v = finite_vector(f"{owner}.{name}", value)
     if unit:
         norm = float(np.linalg.norm(v))
         if norm == 0:
