@@ -193,6 +193,12 @@ def test_contact_points_map_the_surface(rng):
         X = model.discretize(lambda a1, a2: np.stack([a1 + 0.1 * a2**2, a2, np.sin(a1) * a2], -1))
         assert np.max(np.abs(pts.positions(X) - model.sample(X, pts.a).r)) <= 1e-14
         assert ct.contact_points(model) is pts  # built once per model
+    # FD with points between its nodes: on the bilinear cells, with trapezoidal areas
+    model = make_model(drop_scene((5, 4), 0.1, contact=dm.Contact(samples=2)), "fd")
+    pts = ct.contact_points(model)
+    assert pts.P == 9 * 7 and pts.area.sum() == pytest.approx(1.0, rel=1e-14)
+    X = model.discretize(lambda a1, a2: np.stack([a1 + 0.1 * a2**2, a2, np.sin(a1) * a2], -1))
+    assert np.max(np.abs(pts.positions(X) - model.sample(X, pts.a).r)) <= 1e-14
 
 
 def test_the_schemes_refuse_the_other_method():
