@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["FixedPattern", "SymmetricElements", "ReducedSystem", "canonical", "element_vectors"]
+__all__ = ["FixedPattern", "SymmetricElements", "ReducedSystem", "BlockPattern", "canonical", "element_vectors"]
 
 
 def canonical(A) -> sp.csr_matrix:
@@ -255,3 +255,33 @@ class ReducedSystem:
             (A[block["gather_fc"]], (block["fc_rows"], block["fc_cols"])), shape=block["shape_fc"]
         )
         return Aff, Afc
+
+
+class BlockPattern:
+    """The fixed pattern of a symmetric 3 x 3 block matrix whose blocks share one scalar pattern.
+
+    Parameters
+    ----------
+    S : sparse (n, n)
+        The scalar pattern every block has (e.g. the one ``density_matrix`` returns).
+    n : int
+
+    :meth:`matrix` takes the six blocks (a, b), a <= b, each on S's very pattern, and returns the
+    coordinate-blocked (3 n, 3 n) matrix (index a n + k) on one fixed pattern.
+    """
+
+    def __init__(self, S: sp.csr_matrix, n: int):
+        S = sp.csr_matrix(S)
+        self.indptr, self.indices = S.indptr.copy(), S.indices.copy()
+        r = np.repeat(np.arange(n), np.diff(S.indptr))
+        c = S.indices
+        order = [(a, b) for a in range(3) for b in range(3)]
+        self.pattern = FixedPattern(np.concatenate([a * n + r for a, _ in order]),
+                                    np.concatenate([b * n + c for _, b in order]), (3 * n, 3 * n))
+        self.order = [(min(a, b), max(a, b)) for a, b in order]
+
+    def matrix(self, blocks: dict) -> sp.csr_matrix:
+        for S in blocks.values():
+            if not (np.array_equal(S.indptr, self.indptr) and np.array_equal(S.indices, self.indices)):
+                raise ValueError("a block changed its sparsity pattern between calls")
+        return self.pattern.matrix(self.pattern.data(np.concatenate([blocks[ab].data for ab in self.order])))

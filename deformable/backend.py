@@ -78,6 +78,9 @@ class Backend(Protocol):
         The scene's external forces over the hooks below: applied loads,
         springs (their energy, gradient, Hessian) and wind (its force and
         velocity Jacobian).
+    contact_samples : int
+        Contact points per cell side by default (:mod:`deformable.contact`):
+        FD 1 (its nodes), FE 2 (a sub-grid of spacing h / 2).
     """
 
     scene: Scene
@@ -88,6 +91,7 @@ class Backend(Protocol):
     points: tuple[np.ndarray, np.ndarray]
     mu: np.ndarray
     loads: Loads
+    contact_samples: int
 
     # -- geometry
     def initial_state(self) -> np.ndarray: ...
@@ -118,6 +122,9 @@ class Backend(Protocol):
     def density_matrix(self, c: np.ndarray) -> sp.csr_matrix: ...
     def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]: ...
     def edge_load(self, force, t: float) -> np.ndarray: ...
+
+    # -- the hook of deformable.contact: r at parameter points a (P, 2) as a fixed sparse matrix, r(a) = W @ X
+    def point_matrix(self, a) -> sp.csr_matrix: ...
 
 
 #: the former name of the contract's energy part; every backend has it now

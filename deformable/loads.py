@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .assembly import FixedPattern
+from .assembly import BlockPattern, FixedPattern
 from .tensors import frame
 
 __all__ = ["Loads"]
@@ -164,25 +164,5 @@ class Loads:
         shape = m.points[0].shape
         blocks = {ab: m.density_matrix(d[:, ab[0], ab[1]].reshape(shape)) for ab in _PAIRS}
         if self._wind_pattern is None:
-            self._wind_pattern = _BlockPattern(blocks[0, 0], self.n)
+            self._wind_pattern = BlockPattern(blocks[0, 0], self.n)
         return self._wind_pattern.matrix(blocks)
-
-
-class _BlockPattern:
-    """The fixed pattern of a symmetric 3 x 3 block matrix whose blocks share one scalar pattern."""
-
-    def __init__(self, S: sp.csr_matrix, n: int):
-        S = sp.csr_matrix(S)
-        self.indptr, self.indices = S.indptr.copy(), S.indices.copy()
-        r = np.repeat(np.arange(n), np.diff(S.indptr))
-        c = S.indices
-        order = [(a, b) for a in range(3) for b in range(3)]
-        self.pattern = FixedPattern(np.concatenate([a * n + r for a, _ in order]),
-                                    np.concatenate([b * n + c for _, b in order]), (3 * n, 3 * n))
-        self.order = [(min(a, b), max(a, b)) for a, b in order]
-
-    def matrix(self, blocks: dict) -> sp.csr_matrix:
-        for S in blocks.values():
-            if not (np.array_equal(S.indptr, self.indptr) and np.array_equal(S.indices, self.indices)):
-                raise ValueError("density_matrix changed its sparsity pattern between calls")
-        return self.pattern.matrix(self.pattern.data(np.concatenate([blocks[ab].data for ab in self.order])))

@@ -25,6 +25,7 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+
 from .checks import finite_array
 from .errors import InputError
 

@@ -50,6 +50,17 @@ The potential's elastic part may carry the scene's springs
 (:class:`deformable.loads.Loads`: an energy with its Hessian), evaluated at
 the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
 implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
+
+Contact (:mod:`deformable.contact`): with obstacles in the scene the
+potential also carries the barrier and the lagged friction
+(:class:`deformable.contact.ContactPotential`), and every Newton direction is
+clipped to the largest safe step before the search sees it
+(:meth:`FlatEnergy.max_step`: ``margin`` of the step at which a contact point
+would reach an obstacle). The watchdog's full steps and its backtracking
+from the last good point both move along clipped directions, so no iterate,
+tried or taken, carries a contact point across an obstacle (Li et al. 2020,
+"Incremental Potential Contact", section 4), and the Armijo test compares
+against the slope of the clipped step.
 """
 
 from __future__ import annotations
@@ -61,6 +72,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .assembly import ReducedSystem
+from .contact import ContactPotential
 from .elasticity import require_energy_gradient
 from .errors import InputError, NumericalError
 from .linalg import SingularMatrix, make_solver
@@ -191,7 +203,10 @@ class FlatEnergy:
     t : float
         The time of the springs' anchors in :meth:`energy`, :meth:`gradient`, :meth:`hessian` (s).
     linear : bool
-        The Newton matrix does not depend on x (the frozen model, with linear springs at most and no wind).
+        The Newton matrix does not depend on x (the frozen model, with linear springs at most, no wind, no
+        obstacles).
+    contact : deformable.contact.ContactPotential or None
+        The barrier and friction of the scene's obstacles (None without obstacles).
     """
 
     def __init__(self, model):
@@ -205,32 +220,50 @@ class FlatEnergy:
         self.free = np.ones(3 * self.n, bool)
         self.free[self.fixed] = False
         self.loads = model.loads
-        self.linear = bool(model.linear and self.loads.linear)
+        self.contact = None
+        if model.scene.obstacles:
+            if model.scene.contact.method != "barrier":
+                raise ValueError(f"contact method {model.scene.contact.method!r} (the paper's exponential force) is "
+                                 "for the semi-implicit scheme; the implicit schemes and equilibrium take the barrier")
+            self.contact = ContactPotential(model)
+        self.linear = bool(model.linear and self.loads.linear and self.contact is None)
         self.t = 0.0
 
     def energy(self, x) -> float:
-        """Elastic energy (13) plus the springs' (J)."""
+        """Elastic energy (13) plus the springs' and the contact's (J); +inf where a contact point is not outside."""
         X = unflat(x, self.n)
         e = self.model.energy(X).total
+        if self.contact is not None:
+            e += self.contact.energy(x)
         return e + self.loads.spring_energy(X, self.t) if self.loads.springs else e
 
-    def gradient(self, x) -> np.ndarray:
+    def gradient(self, x, contact: bool = True) -> np.ndarray:
+        """The gradient of :meth:`energy` (N); ``contact=False`` leaves the contact's out."""
         X = unflat(x, self.n)
         g = self.model.energy_gradient(X)
-        return flat(g + self.loads.spring_gradient(X, self.t) if self.loads.springs else g)
+        g = flat(g + self.loads.spring_gradient(X, self.t) if self.loads.springs else g)
+        return g + self.contact.gradient(x) if contact and self.contact is not None else g
 
     def hessian(self, x, kind: str = "newton") -> sp.csr_matrix:
         """The elastic energy's Hessian (the springs' is :meth:`extra_hessians`)."""
         return self.model.energy_hessian(unflat(x, self.n), kind)
 
-    def extra_hessians(self, x, damping=None) -> list:
-        """The matrices the Newton matrix adds to the elastic Hessian: the springs' Hessian at x, and ``damping``."""
+    def extra_hessians(self, x, damping=None, kind: str = "newton") -> list:
+        """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians
+        at x (the contact's of ``kind``), and ``damping``."""
         out = []
         if self.loads.springs:
             out.append(self.loads.spring_hessian(unflat(x, self.n), self.t))
+        if self.contact is not None:
+            out.append(self.contact.hessian(x, kind))
         if damping is not None:
             out.append(damping)
         return out
+
+    def max_step(self, x, dx) -> float:
+        """The largest alpha in (0, 1] by which x may move along dx (flat, 3 ndof) without a contact point
+        crossing an obstacle (1 without obstacles; :meth:`deformable.contact.ContactPotential.max_step`)."""
+        return 1.0 if self.contact is None else self.contact.max_step(x, dx)
 
     def load(self, t: float) -> np.ndarray:
         """The applied loads at t (body, edge, point), flat (N)."""
@@ -277,7 +310,7 @@ class Newton:
         p = self.problem
         kind = kind or self.settings.hessian
         H = p.hessian(x, "newton" if kind == "auto" else kind)
-        extra = p.extra_hessians(x, self._damping)
+        extra = p.extra_hessians(x, self._damping, "newton" if kind == "auto" else kind)
         if self._system is None:
             self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
         elif (self._system.cm, self._system.cc) != (cm, cc):
@@ -369,6 +402,11 @@ class Newton:
             if not slope < 0:  # no descent (a stale factorisation): steepest descent, scaled like the step
                 d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
                 slope = float(g @ d)
+            if p.contact is not None:  # clipped to the safe step: no point of the segment crosses an obstacle
+                dx = np.zeros_like(x)
+                dx[free] = d
+                alpha = p.max_step(x, dx)
+                d, slope = alpha * d, alpha * slope
             if ref is None:
                 ref = (x, phi(x) if fx is None else fx, d, slope)
             xt = None

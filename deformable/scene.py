@@ -22,9 +22,11 @@ import numpy as np
 from .checks import sequence
 from .compatibility import warn_if_incompatible
 from .constraints import Clamp, Pin, Slide
+from .contact import Contact
 from .errors import InputError
 from .forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wind
 from .material import Material
+from .obstacles import Obstacle
 from .sheet import Sheet
 
 __all__ = ["Scene", "FORCE_MODELS", "IllPosedScene"]
@@ -83,6 +85,10 @@ class Scene:
         symmetric 2 x 2 tensor, or a callable (a1, a2) -> (..., 2, 2).
     name : str
         A label for outputs.
+    obstacles : sequence of deformable.obstacles.Obstacle
+        Rigid obstacles the sheet must stay outside of (:mod:`deformable.obstacles`).
+    contact : deformable.Contact, optional
+        How the sheet meets them (:mod:`deformable.contact`); default ``Contact()`` when there are obstacles.
 
     Warns
     -----
@@ -104,6 +110,8 @@ class Scene:
     rest_curvature: object = None
     name: str = "scene"
     notes: str = field(default="", compare=False)
+    obstacles: tuple = ()
+    contact: Contact | None = None
 
     def __post_init__(self):
         if not isinstance(self.sheet, Sheet):
@@ -125,6 +133,15 @@ class Scene:
             raise InputError(f"Scene.name must be a string, got {self.name!r}", field="Scene.name", value=self.name)
         object.__setattr__(self, "forces", forces)
         object.__setattr__(self, "constraints", constraints)
+        obstacles = (self.obstacles,) if isinstance(self.obstacles, Obstacle) else tuple(self.obstacles)
+        for o in obstacles:
+            if not isinstance(o, Obstacle):
+                raise ValueError(f"Scene.obstacles: {o!r} is not an obstacle (deformable.obstacles)")
+        if self.contact is not None and not isinstance(self.contact, Contact):
+            raise ValueError(f"Scene.contact must be a deformable.Contact, got {self.contact!r}")
+        object.__setattr__(self, "obstacles", obstacles)
+        if obstacles and self.contact is None:
+            object.__setattr__(self, "contact", Contact())
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
         free = _free_modes(self.material) if self.force_model == "variational" else []

@@ -84,6 +84,28 @@ Scenes (paper section 5), and how they differ from the paper's text:
     coil). The springs keep the flag out against gravity, which a real flag's
     skin friction does.
 
+Contact scenes (:mod:`deformable.obstacles`, :mod:`deformable.contact`):
+
+``floor``
+    A square cloth, flat and horizontal, falling onto the floor (a
+    :class:`~deformable.obstacles.HalfSpace` at z = 0) and settling there.
+``sphere``
+    A square cloth dropped centred onto a ball, draping over it.
+``drape``
+    The Cusick drape test (Cusick 1968, "The measurement of fabric drape",
+    J. Text. Inst. 59, 253-260; BS 5058): a square cloth 30 cm a side on a
+    round table 18 cm across (a :class:`~deformable.obstacles.Cylinder` with a
+    rounded rim), of a stiff fabric (xi = 3e-4 N m, a bending length of
+    6.7 cm) whose folds the quick grids resolve. The drape coefficient ``DC = (A_s - A_d) / (A_D - A_d)``
+    (:func:`deformable.drape.drape_coefficient`), with A_s the area of the
+    draped cloth's shadow, A_d the table's and A_D the flat cloth's, is 1 for
+    a cloth that stays flat and 0 for one that hangs straight down.
+
+Every scene takes further obstacles from a scene file, ``[[obstacles]]``
+tables (``kind = "plane" | "sphere" | "box" | "cylinder"`` and the obstacle's
+fields), and the contact settings from a ``[contact]`` table
+(:class:`deformable.Contact`); unknown keys are errors, as elsewhere.
+
 Stability. With the variational model the implicit-Euler step has no
 stretching bound; the default dt (5 ms) keeps about three Newton iterations a
 step. Under the paper's force the semi-implicit step is bounded by about
@@ -104,16 +126,20 @@ from typing import Callable, ClassVar
 import numpy as np
 
 from .constraints import Pin, Slide
+from .contact import Contact
 from .dynamics.stepper import DT_MIN
 from .errors import InputError
 from .forces import BodyForce, Gravity, Spring, Wind
 from .material import Material
+from .obstacles import Cylinder, HalfSpace, Obstacle, Sphere
+from .obstacles import from_table as obstacle_from_table
 from .scene import FORCE_MODELS, Scene
 from .sheet import Plane, Sheet
 
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
-    "hanging", "curtain", "curtain_silky", "paper", "flag", "config", "build", "read_toml", "to_toml", "run_table",
+    "hanging", "curtain", "curtain_silky", "paper", "flag", "floor", "sphere", "drape", "FloorConfig", "SphereConfig",
+    "DrapeConfig", "config", "build", "read_toml", "to_toml", "run_table",
     "equivalent_weights", "fold_wavelength", "smooth_ramp", "FoldNoise",
 ]
 
@@ -267,6 +293,10 @@ class SceneConfig:
         rest shape. (1 / R, 0) is a cylinder of radius R along a2, a sheet that
         curls back into it; both non-zero on a flat metric is no surface at
         all (eq. (10): ``deformable check`` says so, and the Scene warns).
+    obstacles : tuple of Obstacle
+        Obstacles besides the scene's own (scene files: ``[[obstacles]]`` tables).
+    contact : Contact or None
+        How the sheet meets the obstacles (scene files: a ``[contact]`` table); None: ``Contact()``.
     """
 
     scene: str
@@ -286,6 +316,8 @@ class SceneConfig:
     beta: float = 0.0
     rest_metric: tuple = (1.0, 1.0)
     rest_curvature: tuple = (0.0, 0.0)
+    obstacles: tuple = ()
+    contact: Contact | None = None
     #: fields that must be positive, and non-negative (subclasses add theirs)
     POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
     NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi", "alpha", "beta")
@@ -296,6 +328,16 @@ class SceneConfig:
             if f.name == "scene":
                 if value not in SCENES:
                     raise InputError(f"unknown scene {value!r}; known scenes: {', '.join(SCENES)}")
+            elif f.name == "obstacles":
+                if not isinstance(value, (dict, Obstacle, list, tuple)):
+                    raise InputError(f"scene field obstacles must be [[obstacles]] tables (or obstacles), got {value!r}",
+                                     field="obstacles", value=value)
+                tables = [value] if isinstance(value, (dict, Obstacle)) else list(value)
+                object.__setattr__(self, f.name, tuple(obstacle_from_table(t, f"scene field obstacles[{k}]")
+                                                       for k, t in enumerate(tables)))
+            elif f.name == "contact":
+                if value is not None:
+                    object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
             elif f.name == "force_model":
                 if value not in FORCE_MODELS:
                     raise InputError(f"scene field force_model must be one of {FORCE_MODELS}, got {value!r}")
@@ -355,7 +397,8 @@ class SceneConfig:
         """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
         G0 = None if self.rest_metric == (1.0, 1.0) else np.diag(self.rest_metric)
         B0 = None if self.rest_curvature == (0.0, 0.0) else np.diag(self.rest_curvature)
-        return dict(force_model=self.force_model, rest_metric=G0, rest_curvature=B0, name=self.scene)
+        return dict(force_model=self.force_model, rest_metric=G0, rest_curvature=B0, name=self.scene,
+                    obstacles=self.obstacles, contact=self.contact)
 
     def replace(self, **changes) -> SceneConfig:
         """A copy with some fields changed; an unknown field is a ValueError naming it."""
@@ -364,6 +407,8 @@ class SceneConfig:
             if key not in known:
                 raise InputError(f"unknown key {key!r} for scene {self.scene!r}; known keys: "
                                  f"{', '.join(sorted(known))}", field=key, value=changes[key])
+        if isinstance(changes.get("contact"), dict):  # a [contact] table overrides the scene's own settings
+            changes["contact"] = Contact.from_table(changes["contact"], "scene field contact", base=self.contact)
         return dataclasses.replace(self, **changes)
 
     def material(self) -> Material:
@@ -465,6 +510,70 @@ class FlagConfig(SceneConfig):
     NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("drag", "coil", "swing", "frequency")
 
 
+@dataclass(frozen=True, kw_only=True)
+class FloorConfig(SceneConfig):
+    """A cloth falling onto the floor (the plane z = 0).
+
+    Parameters
+    ----------
+    height : float
+        The sheet's starting height above the floor (m); from rest it lands at sqrt(2 g height).
+    tilt : float
+        The start's tilt about the a2 direction (degrees; 0: falling flat).
+    """
+
+    height: float = 0.3
+    tilt: float = 0.0
+    POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("height",)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SphereConfig(SceneConfig):
+    """A cloth dropped centred onto a ball whose top is at z = 0.
+
+    Parameters
+    ----------
+    radius : float
+        The ball's radius (m).
+    gap : float
+        The sheet's starting height above the ball's top (m).
+    """
+
+    radius: float = 0.25
+    gap: float = 0.05
+    POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("radius", "gap")
+
+
+@dataclass(frozen=True, kw_only=True)
+class DrapeConfig(SceneConfig):
+    """The Cusick drape test: a cloth centred on a round table whose top is at z = 0.
+
+    Parameters
+    ----------
+    table_radius : float
+        The table's radius (m; BS 5058: 0.09).
+    table_thickness : float
+        Its thickness (m).
+    rim : float
+        The radius of its rounded rim (m).
+    gap : float
+        The sheet's starting height above the table (m).
+    """
+
+    table_radius: float = 0.09
+    table_thickness: float = 0.02
+    rim: float = 0.003
+    gap: float = 5e-4
+    POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("table_radius", "table_thickness", "gap")
+    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("rim",)
+
+    def table(self) -> Cylinder:
+        """The table: a cylinder under the sheet's centre, its top at z = 0."""
+        L1, L2 = self.size
+        return Cylinder(center=(0.5 * L1, 0.5 * L2, -0.5 * self.table_thickness), radius=self.table_radius,
+                        height=self.table_thickness, rounding=self.rim)
+
+
 # -- builders ------------------------------------------------------------------
 def _hanging(cfg: HangingConfig) -> Scene:
     sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=HORIZONTAL)
@@ -512,6 +621,38 @@ def _flag(cfg: FlagConfig) -> Scene:
     return Scene(sheet, cfg.material(), forces=forces, constraints=[Pin("left")], **cfg.scene_kwargs())
 
 
+def _with_obstacles(cfg: SceneConfig, *own: Obstacle) -> dict:
+    """scene_kwargs with the scene's own obstacles before the config's extra ones."""
+    kwargs = cfg.scene_kwargs()
+    kwargs["obstacles"] = own + tuple(cfg.obstacles)
+    return kwargs
+
+
+def _floor(cfg: FloorConfig) -> Scene:
+    a = math.radians(cfg.tilt)
+    start = Plane(origin=(0.0, 0.0, cfg.height), e1=(math.cos(a), 0.0, math.sin(a)))
+    sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=HORIZONTAL, initial=start)
+    return Scene(sheet, cfg.material(), forces=[Gravity(cfg.g)], **_with_obstacles(cfg, HalfSpace()))
+
+
+def _sphere(cfg: SphereConfig) -> Scene:
+    L1, L2 = cfg.size
+    sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=HORIZONTAL, initial=Plane(origin=(0.0, 0.0, cfg.gap)))
+    ball = Sphere(center=(0.5 * L1, 0.5 * L2, -cfg.radius), radius=cfg.radius)
+    return Scene(sheet, cfg.material(), forces=[Gravity(cfg.g)], **_with_obstacles(cfg, ball))
+
+
+def _drape(cfg: DrapeConfig) -> Scene:
+    sheet = Sheet(size=cfg.size, nodes=cfg.nodes, rest=HORIZONTAL, initial=Plane(origin=(0.0, 0.0, cfg.gap)))
+    return Scene(sheet, cfg.material(), forces=[Gravity(cfg.g)], **_with_obstacles(cfg, cfg.table()))
+
+
+def _drape_report(cfg: DrapeConfig, model, X) -> str:
+    from .drape import drape_coefficient
+
+    return f"drape coefficient {drape_coefficient(model, X, cfg.table()):.4f} (Cusick 1968)"
+
+
 @dataclass(frozen=True)
 class SceneSpec:
     """A registry entry: the config class, this scene's defaults and its builder.
@@ -524,6 +665,8 @@ class SceneSpec:
     defaults: dict
     builder: Callable
     summary: str
+    #: (config, model, X) -> a line on the final state (the drape coefficient), or None
+    report: Callable | None = None
 
     def config(self, **fields_) -> SceneConfig:
         """The scene's config with some fields overridden (unknown fields: ValueError)."""
@@ -544,6 +687,11 @@ class SceneSpec:
 # Real-world starting point (section 4): a light cloth of 0.2 kg/m^2, E h = 8 eta = 160 N/m, D = 2 xi = 2e-5 N m.
 _CURTAIN = dict(size=(1.0, 1.2), mu=0.2, gamma=0.2, eta=20.0, xi=1e-5)
 _SILKY = dict(_CURTAIN, scale=20.0, nodes=(64, 64))
+# Contact scenes: the same cloth, with friction 0.3 against the obstacles and a barrier active within 1 mm
+_CLOTH = dict(mu=0.2, gamma=0.1, eta=20.0, xi=1e-5, contact=Contact(distance=1e-3, friction=0.3))
+# The drape's cloth is a stiff fabric (bending length (2 xi / (mu g))^(1/3) = 6.7 cm): its folds are resolved on
+# the study's quick grids; the limp cloth's (xi = 1e-5) fold at about 3 cm (fold_wavelength) and are not
+_DRAPE_XI = 3e-4
 SCENES: dict[str, SceneSpec] = {}
 for _spec in (
     SceneSpec("hanging", HangingConfig, dict(size=(1.0, 1.0), mu=0.2, gamma=0.05, eta=50.0, xi=1e-5), _hanging,
@@ -556,6 +704,13 @@ for _spec in (
               "the silky curtain with 16 times the curvature resistance (Fig. 6)"),
     SceneSpec("flag", FlagConfig, dict(size=(1.2, 0.8), mu=0.2, gamma=0.05, eta=20.0, xi=1e-5), _flag,
               "flag on a pole, a coil on its free side, in the wind (Figs 7-8)"),
+    SceneSpec("floor", FloorConfig, dict(_CLOTH, t_end=1.0), _floor,
+              "cloth falling flat onto the floor and settling (contact)"),
+    SceneSpec("sphere", SphereConfig, dict(_CLOTH, t_end=1.5), _sphere,
+              "square cloth dropped onto a ball (contact)"),
+    SceneSpec("drape", DrapeConfig, dict(_CLOTH, size=(0.3, 0.3), nodes=(33, 33), gamma=1.0, xi=_DRAPE_XI, t_end=1.5),
+              _drape,
+              "the Cusick drape test on a round table, with its drape coefficient (contact)", _drape_report),
 ):
     SCENES[_spec.name] = _spec
 
@@ -623,6 +778,21 @@ def flag(nodes=None, **fields_) -> Scene:
     across the flag at 4 Hz; wind 10 m/s along the flag (c = 0.6 kg/m^3).
     """
     return SCENES["flag"](nodes, **fields_)
+
+
+def floor(nodes=None, **fields_) -> Scene:
+    """A 1 m cloth falling flat from 0.3 m onto the floor and settling (friction 0.3, barrier within 1 mm)."""
+    return SCENES["floor"](nodes, **fields_)
+
+
+def sphere(nodes=None, **fields_) -> Scene:
+    """A 1 m cloth dropped from 5 cm above onto a ball of radius 0.25 m (friction 0.3)."""
+    return SCENES["sphere"](nodes, **fields_)
+
+
+def drape(nodes=None, **fields_) -> Scene:
+    """The Cusick drape test: a 0.3 m square cloth on a round table 0.18 m across (module docstring)."""
+    return SCENES["drape"](nodes, **fields_)
 
 
 # -- scene files -----------------------------------------------------------------
@@ -703,12 +873,18 @@ def _toml_value(value) -> str:
 def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
     """The resolved config as TOML text that :func:`read_toml` reads back to an equal config.
 
+    The contact settings follow as a ``[contact]`` table and the extra obstacles as ``[[obstacles]]`` tables;
     ``run``: settings that are not scene fields (backend, scheme, package version, ...), written as a
-    ``[run]`` table after the fields (:func:`run_table` reads it back).
+    ``[run]`` table after them (:func:`run_table` reads it back).
     """
     lines = [f"# resolved scene config ({SCENES[cfg.scene].summary})"]
     for f in fields(cfg):
-        lines.append(f"{f.name} = {_toml_value(getattr(cfg, f.name))}")
+        if f.name not in ("obstacles", "contact"):
+            lines.append(f"{f.name} = {_toml_value(getattr(cfg, f.name))}")
+    tables = ([("[contact]", cfg.contact.table())] if cfg.contact is not None else []) + [
+        ("[[obstacles]]", o.table()) for o in cfg.obstacles]
     if run:
-        lines += ["", "[run]"] + [f"{k} = {_toml_value(v)}" for k, v in run.items() if v is not None]
+        tables.append(("[run]", {k: v for k, v in run.items() if v is not None}))
+    for head, table in tables:
+        lines += ["", head] + [f"{k} = {_toml_value(v)}" for k, v in table.items()]
     return "\n".join(lines) + "\n"

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
+
 from .checks import count, real
 from .errors import InputError
 from .resources import check_memory

@@ -87,6 +87,8 @@ log = logging.getLogger(__name__)
 WEIGHTINGS = ("pointwise", "control-area")
 #: largest eigenvalue of D1+^T D1+ against the identity, times h^2: the stiffest membrane mode (4/h^2)
 MEMBRANE_EIGENVALUE = 4.0
+#: contact points per cell side by default (deformable.contact): the nodes
+CONTACT_SAMPLES = 1
 
 
 def _to_nodes(n: int) -> np.ndarray:
@@ -139,6 +141,7 @@ class FDModel:
         self.linear = scene.force_model == "frozen"
         self.a1, self.a2 = sheet.coordinates()
         self.points = (self.a1, self.a2)
+        self.contact_samples = CONTACT_SAMPLES
         area = self.h1 * self.h2
 
         self.ops = operators(M, N, self.h1, self.h2)
@@ -350,6 +353,15 @@ class FDModel:
         i, j, s, u = self.scene.sheet.locate(np.asarray(a, float)[None], what)
         dofs = np.array([(i[0] + di) * self.N + j[0] + dj for di, dj in CELL_CORNERS])
         return dofs, np.array([float(w) for w in bilinear_weights(s[0], u[0])])
+
+    def point_matrix(self, a) -> sp.csr_matrix:
+        """r at parameter points a (P, 2) as a sparse (P, M N) matrix of bilinear weights: ``r(a) = W @ X``."""
+        i, j, s, u = self.scene.sheet.locate(a, "points")
+        dofs = np.stack([(i + di) * self.N + j + dj for di, dj in CELL_CORNERS], axis=1)
+        w = np.stack(bilinear_weights(s, u), axis=1)
+        W = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(i.size), 4), dofs.ravel())), shape=(i.size, self.ndof))
+        W.eliminate_zeros()
+        return W
 
     def edge_load(self, force, t: float) -> np.ndarray:
         """An EdgeLoad's traction q times each edge node's share of the edge (half at its ends), (M N, 3) (N)."""

@@ -90,8 +90,14 @@ from skfem.quadrature import get_quadrature_line
 from deformable.assembly import element_vectors
 from deformable.backend import Energy, Sample, kinetic_energy
 from deformable.constraints import hold
-from deformable.elasticity import (QuadraticEnergy, alpha, beta, lagged_alpha_step, require_energy_gradient,
-                                   require_strength_matrix)
+from deformable.elasticity import (
+    QuadraticEnergy,
+    alpha,
+    beta,
+    lagged_alpha_step,
+    require_energy_gradient,
+    require_strength_matrix,
+)
 from deformable.integrand import FE_SLOTS, slot_tensors
 from deformable.loads import Loads
 from deformable.resources import check_scene
@@ -116,6 +122,9 @@ _CHUNK = 1 << 15
 #: largest eigenvalue of integral u_1 v_1 against the consistent mass integral u v, times h^2: about 91
 #: (FD's 4); written as FD's over 0.21^2, the measured ratio of the two stable steps
 MEMBRANE_EIGENVALUE = 4.0 / 0.21**2
+#: contact points per element side by default (deformable.contact): a sub-grid of spacing h / 2, the nodes
+#: among them, so that the cubic surface between nodes is covered too
+CONTACT_SAMPLES = 2
 
 
 class FEModel:
@@ -158,6 +167,7 @@ class FEModel:
         self._build_elements()
         self._build_quadrature()
         self.points = (self.a1q, self.a2q)
+        self.contact_samples = CONTACT_SAMPLES
 
         self.strength = StrengthMatrix(self.ldofs, self.ndof, self.dq, self.weights)
         self.mu = self.to_quadrature(mat.field("mu", (M, N)))
@@ -395,6 +405,16 @@ class FEModel:
         """
         e, s, t = self._locate(np.asarray(a, float)[None], what)
         return self.ldofs[e[0]], basis(s, t, (self.h1, self.h2))[:, 0]
+
+    def point_matrix(self, a) -> sp.csr_matrix:
+        """r at parameter points a (P, 2) as a sparse (P, ndof) matrix of the basis there: ``r(a) = W @ X``."""
+        e, s, t = self._locate(a, "points")
+        w = basis(s, t, (self.h1, self.h2)).T  # (P, 16)
+        W = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(e.size), 16), self.ldofs[e].ravel())),
+                          shape=(e.size, self.ndof))
+        W.data[np.abs(W.data) < 1e-14] = 0.0  # the basis vanishes exactly at nodes and along element sides
+        W.eliminate_zeros()
+        return W
 
     def edge_load(self, force, t: float) -> np.ndarray:
         """An EdgeLoad's traction integrated against the basis on the edge's element sides (4-point Gauss), (ndof, 3)."""

@@ -29,6 +29,14 @@ C + D_n in place of C and f_n + D_n v_n added to F_{n+1}. The step stays
 unconditionally stable in the wind's damping; the wind's dependence on the
 normal (positions) is lagged, a first-order error in time.
 
+Contact (:mod:`deformable.contact`): the scene's obstacles add the barrier
+and the friction to E; the friction's normal forces and tangent bases are
+lagged, frozen at x_n for the step (:meth:`ContactPotential.lag`). The
+search starts from the predictor only as far as the segment from x_n to it
+stays outside the obstacles (clipped like a Newton step), and the tolerance's
+scale, the force imbalance at x-hat, leaves the contact forces out (at rest on
+an obstacle they balance the weight, and the scale would vanish).
+
 dt may change from step to step (the controller halves it when Newton does
 not converge and lets it grow back): both schemes take the step length as an
 argument. A step whose Newton solve does not reach its tolerance is never
@@ -36,7 +44,6 @@ returned: it raises :class:`StepRejected`.
 """
 
 from __future__ import annotations
-
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -123,8 +130,8 @@ class Implicit:
                 dx, dn = x - xhat, x - xn
                 return 0.5 * dx @ (M @ dx) / dt**2 + 0.5 * dn @ (C @ dn) / dt + fl.energy(x) - F @ x
 
-            def grad(x):
-                return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x) - F
+            def grad(x, contact=True):
+                return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x, contact) - F
         else:
             an = self.acceleration(state) if state.A is None else flat(state.A)
             Man, Cvn = M @ an, C @ vn
@@ -134,17 +141,20 @@ class Implicit:
                 return (2 * dx @ (M @ dx) / dt**2 - Man @ x + dn @ (C @ dn) / dt - Cvn @ x
                         + fl.energy(x) - F @ x)
 
-            def grad(x):
-                return 4 * M @ (x - xhat) / dt**2 - Man + 2 * C @ (x - xn) / dt - Cvn + fl.gradient(x) - F
+            def grad(x, contact=True):
+                return 4 * M @ (x - xhat) / dt**2 - Man + 2 * C @ (x - xn) / dt - Cvn + fl.gradient(x, contact) - F
 
         label = f"{self.name} step {state.step + 1} (t = {t1:.6g} s, dt = {dt:.3g} s)"
         fl.t = t1
         # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
         # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
         start = fl.hold(xhat, X0, t1)
-        scale = float(np.max(np.abs(grad(start)[fl.free]), initial=0.0))
+        scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
         if state.A is not None:
             start = fl.hold(xhat + (dt**2 if self.name == "implicit-euler" else 0.5 * dt**2) * flat(state.A), X0, t1)
+        if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow
+            fl.contact.lag(xn, dt)
+            start = fl.hold(xn + fl.max_step(xn, start - xn) * (start - xn), X0, t1)
         try:
             x, report = self.newton.minimise(phi, grad, start, cm, cc, label, None if D is None else cc * D, scale)
         except ConvergenceError as err:

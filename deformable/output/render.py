@@ -5,7 +5,11 @@ The frames are rendered from the XDMF time series that
 ``displacement``), so a run that was killed or diverged can still be drawn.
 The camera is fixed for the whole series and frames the union of the sheet's
 bounding boxes over all frames; the colour range of the chosen field is fixed
-over the series too, so frames compare.
+over the series too, so frames compare. A scene's obstacles
+(:mod:`deformable.obstacles`) are drawn in grey in every frame: a plane as a
+square patch under the sheet's extent, spheres as they are, rounded boxes and
+cylinders as their sharp cores (the solid less its rounding), so that a cloth
+resting on a rounded rim is not drawn cut by a sharp one.
 
 Headless machines: VTK falls back from an X window to EGL when no display is
 there, and logs a warning first; choosing EGL up front
@@ -23,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["render_series", "render_frame", "read_series", "FIELDS", "TITLES"]
+__all__ = ["render_series", "render_frame", "read_series", "obstacle_mesh", "FIELDS", "TITLES"]
 
 log = logging.getLogger(__name__)
 
@@ -66,15 +70,39 @@ def _camera(bounds: np.ndarray):
     return [tuple(centre + distance * direction), tuple(centre), (0.0, 0.0, 1.0)]
 
 
-def render_frame(plotter, points, faces, values, field, clim, title):
+def obstacle_mesh(obstacle, bounds: np.ndarray):
+    """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3)."""
+    pv = _pyvista()
+    kind = obstacle.kind
+    if kind == "sphere":
+        return pv.Sphere(radius=obstacle.radius, center=obstacle.center, theta_resolution=64, phi_resolution=64)
+    r = getattr(obstacle, "rounding", 0.0)  # a rounded solid is drawn as its sharp core, never outside it
+    if kind == "cylinder":
+        return pv.Cylinder(center=obstacle.center, direction=obstacle.axis, radius=obstacle.radius - r,
+                           height=obstacle.height - 2 * r, resolution=96, capping=True)
+    if kind == "box":
+        lo, hi = np.asarray(obstacle.lower) + r, np.asarray(obstacle.upper) - r
+        return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
+    if kind == "plane":
+        n = np.asarray(obstacle.normal)
+        centre = 0.5 * (bounds[0] + bounds[1])
+        centre = centre - float((centre - np.asarray(obstacle.point)) @ n) * n  # projected onto the plane
+        size = 2.0 * float(np.max(bounds[1] - bounds[0])) or 1.0
+        return pv.Plane(center=centre, direction=n, i_size=size, j_size=size)
+    raise ValueError(f"no picture for an obstacle of kind {kind!r}")
+
+
+def render_frame(plotter, points, faces, values, field, clim, title, obstacles=()):
     """Draw one frame into ``plotter`` (cleared first).
 
     The colour bar stands at the right edge, upright, its title (the field and its unit, :data:`TITLES`)
     above it and three labels of three significant digits beside it, so that no label meets the title
-    or another label.
+    or another label. ``obstacles``: pyvista meshes drawn in grey.
     """
     pv = _pyvista()
     plotter.clear()
+    for mesh in obstacles:
+        plotter.add_mesh(mesh, color="lightgrey", smooth_shading=True, opacity=1.0)
     mesh = pv.PolyData(points, faces)
     mesh[field] = values
     plotter.add_mesh(mesh, scalars=field, clim=clim, cmap="viridis", smooth_shading=True, show_edges=False,
@@ -98,7 +126,8 @@ def read_series(xdmf):
 
 
 def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: bool = True, title: str = "",
-                  fps: float = 12.0, max_frames: int | None = None, progress: bool = False) -> list[Path]:
+                  fps: float = 12.0, max_frames: int | None = None, progress: bool = False,
+                  obstacles=()) -> list[Path]:
     """Render every frame of an XDMF series to PNG (and a GIF of them).
 
     Parameters
@@ -111,6 +140,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     title : text drawn in the corner, followed by the frame's time
     max_frames : render at most this many frames, evenly spread (all by default)
     progress : show a progress bar on stderr (tqdm; silent when stderr is not a terminal)
+    obstacles : sequence of deformable.obstacles.Obstacle, drawn in every frame (a scene's ``obstacles``)
 
     Returns
     -------
@@ -136,6 +166,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
         clim = (clim[0] - 0.5, clim[0] + 0.5)
     pts = np.concatenate([f[1] for f in frames])
     bounds = np.array([pts.min(axis=0), pts.max(axis=0)])
+    meshes = [obstacle_mesh(o, bounds) for o in obstacles]
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
@@ -150,7 +181,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
         bar = tqdm(total=len(frames), desc="rendering", unit="frame", disable=not sys.stderr.isatty(), leave=False)
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
-            render_frame(plotter, points, faces, np.ravel(v), field, clim, f"{title}  t = {t:.3f} s".strip())
+            render_frame(plotter, points, faces, np.ravel(v), field, clim, f"{title}  t = {t:.3f} s".strip(), meshes)
             plotter.camera_position = _camera(bounds)
             png = out_dir / f"frame-{k:05d}.png"
             plotter.screenshot(str(png))

@@ -54,9 +54,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import count, real
 from ..dynamics.trackers import Tracker
 from ..elasticity import energy_density
-from ..checks import count, real
 from ..errors import InputError, WriteError
 from ..resources import DATASET_BYTES, check_room
 

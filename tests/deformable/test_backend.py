@@ -18,13 +18,21 @@ import deformable as dm
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 
-from ..conftest import FULL_ETA, FULL_XI, flat_model, flat_scene, gradient_error, hessian_error
+from ..conftest import (
+    FULL_ETA,
+    FULL_XI,
+    flat_model,
+    flat_scene,
+    gradient_error,
+    hessian_error,
+)
 
 #: attributes and methods the contract names (deformable.backend.Backend's docstring)
-ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads"}
+ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads", "contact_samples"}
 METHODS = {"initial_state", "discretize", "grid", "tensors", "sample", "stiffness", "mass", "damping", "load",
            "internal_force", "fixed_dofs", "prescribed", "stable_step", "energy", "kinetic_energy",
-           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_load"}
+           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_load",
+           "point_matrix"}
 #: degrees of freedom per node
 NODE_DOFS = {"fd": 1, "fe": 4}
 #: small grids for the finite-difference checks of the energy's derivatives (cost ~ ndof^2)

@@ -6,8 +6,13 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.compatibility import (IncompatibleRestState, brioschi, check_compatibility, check_rest_state,
-                                      warn_if_incompatible)
+from deformable.compatibility import (
+    IncompatibleRestState,
+    brioschi,
+    check_compatibility,
+    check_rest_state,
+    warn_if_incompatible,
+)
 from validation.harness import surfaces as sf
 from validation.harness.orders import fit_order
 

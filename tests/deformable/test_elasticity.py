@@ -10,8 +10,15 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from deformable.elasticity import (QuadraticEnergy, alpha, beta, energy_density, require_energy_gradient,
-                                   require_strength_matrix, stretching_step)
+from deformable.elasticity import (
+    QuadraticEnergy,
+    alpha,
+    beta,
+    energy_density,
+    require_energy_gradient,
+    require_strength_matrix,
+    stretching_step,
+)
 
 from ..conftest import flat_scene
 

@@ -23,7 +23,7 @@ from deformable.newton import ConvergenceError
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
 
-from ..conftest import ALL_EDGES, free_dofs, flat_model
+from ..conftest import ALL_EDGES, flat_model, free_dofs
 
 L, W = 1.0, 0.2
 

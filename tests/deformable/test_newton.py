@@ -6,7 +6,15 @@ import scipy.sparse as sp
 
 import deformable as dm
 from deformable.linalg import available
-from deformable.newton import WATCHDOG, ConvergenceError, FlatEnergy, Newton, NewtonSettings, flat, unflat
+from deformable.newton import (
+    WATCHDOG,
+    ConvergenceError,
+    FlatEnergy,
+    Newton,
+    NewtonSettings,
+    flat,
+    unflat,
+)
 
 from ..conftest import flat_model
 
@@ -31,6 +39,7 @@ class Diagonal:
         self.free[0] = False
         self.fixed = np.array([0])
         self.linear = False
+        self.contact = None  # no obstacles: Newton's directions are not clipped
         self.hessians = []
 
     def phi(self, x):
@@ -45,7 +54,7 @@ class Diagonal:
         n = self.n  # an explicit CSR diagonal: the same pattern whatever the values (zeros included)
         return sp.csr_matrix((f(x - self.c), np.arange(n), np.arange(n + 1)), shape=(n, n))
 
-    def extra_hessians(self, x, damping=None):
+    def extra_hessians(self, x, damping=None, kind="newton"):
         return [] if damping is None else [damping]
 
 

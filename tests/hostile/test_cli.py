@@ -370,7 +370,7 @@ def test_a_bad_value_of_any_scene_field_is_one_line_naming_it(scene, field, valu
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["check", "drape"], "unknown scene 'drape'"),
+    (["check", "tablecloth"], "unknown scene 'tablecloth'"),
     (["check", "flag", "--rtol", "nan"], "--rtol must be a number in (0, 1)"),
     (["check", "flag", "--grid", "5x5"], "at least 9 points a side"),
     (["bench", "--sizes", "2"], "--sizes needs grid sizes of at least 3"),

@@ -162,7 +162,7 @@ SCENE_CONFIG = {
     "frozen without alpha, beta": (lambda: scenes.config("hanging", force_model="frozen"), "alpha > 0 or beta > 0"),
     "alpha under the variational model": (lambda: scenes.config("hanging", alpha=1.0), "frozen model's weights"),
     "alpha negative": (lambda: scenes.config("hanging", force_model="frozen", alpha=-1.0), "alpha"),
-    "unknown scene": (lambda: scenes.config("drape"), "unknown scene 'drape'"),
+    "unknown scene": (lambda: scenes.config("tablecloth"), "unknown scene 'tablecloth'"),
     "nodes beyond memory": (lambda: scenes.build(scenes.config("curtain", nodes=(10**6, 10**6))), "GB of memory"),
 }
 

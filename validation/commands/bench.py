@@ -24,6 +24,13 @@ iteration, the ratio of an iteration to one factorisation and solve of its
 own Newton matrix with the same solver, and the ratio of the step to the
 semi-implicit step of the same scene and grid under the paper's force (at its
 own stable dt). FD rows are given in nodes a side, FE rows in elements a side.
+
+Contact rows (issue 14). The ``sphere`` scene with the cloth starting half
+the barrier's activation distance above the ball (in contact from the first
+step), stepped K times after one warm-up step, against the same scene and
+start with the obstacle removed (a free fall): ms per step, Newton iterations
+per step, ms per iteration, and the ratios. The issue's target is a step
+ratio of at most 2 at 64 x 64 FD nodes.
 """
 
 from __future__ import annotations
@@ -47,8 +54,8 @@ from deformable.linalg import make_solver
 from deformable.newton import flat
 from validation.harness.backends import make_model
 
-__all__ = ["configure", "execute", "BenchRow", "ImplicitRow", "bench_one", "bench_implicit", "format_table",
-           "format_implicit"]
+__all__ = ["configure", "execute", "BenchRow", "ImplicitRow", "ContactRow", "bench_one", "bench_implicit",
+           "bench_contact", "format_table", "format_implicit", "format_contact"]
 
 log = logging.getLogger(__name__)
 #: the semi-implicit rows' dt (s), where the backend's half stable step is not smaller
@@ -64,6 +71,11 @@ def configure(parser) -> None:
                         help="implicit rows, FD: nodes a side (default: 32,64,128); '' for none")
     parser.add_argument("--implicit-fe", default="16,32,64", metavar="N,...",
                         help="implicit rows, FE: elements a side (default: 16,32,64); '' for none")
+    parser.add_argument("--contact-fd", default="64", metavar="N,...",
+                        help="contact rows (the sphere scene with and without its ball), FD: nodes a side "
+                        "(default: 64); '' for none")
+    parser.add_argument("--contact-fe", default="", metavar="N,...",
+                        help="contact rows, FE: elements a side (default: none)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
     parser.add_argument("--out", default=None, help="folder for bench.csv and bench_implicit.csv "
                         "(default: reports/bench)")
@@ -260,6 +272,72 @@ def format_implicit(rows) -> str:
     return "\n".join(lines)
 
 
+# -- contact rows ------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ContactRow:
+    """One contact line: the sphere scene with its ball against without; times in seconds, memory in MB."""
+
+    backend: str
+    grid: str
+    unknowns: int
+    contact_points: int
+    newton_contact: float
+    newton_free: float
+    step_contact: float
+    step_free: float
+    peak_mb: float
+
+    @property
+    def step_ratio(self) -> float:
+        """The step with contact against the step without the obstacle."""
+        return self.step_contact / self.step_free
+
+    @property
+    def iteration_ratio(self) -> float:
+        """A Newton iteration with contact against one without."""
+        return (self.step_contact / self.newton_contact) / (self.step_free / self.newton_free)
+
+
+def _timed_steps(model, dt: float, steps: int, solver: str) -> tuple[float, float]:
+    """(s per step, Newton iterations per step) of ``steps`` implicit-Euler steps after one warm-up step."""
+    stepper = TimeStepper(model, dt, newton=dict(solver=solver))
+    state = stepper.step(stepper.start(model.initial_state()))
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        state = stepper.step(state)
+    wall = (time.perf_counter() - t0) / steps
+    return wall, float(np.mean([r.iterations for r in stepper.newton_reports[1:]]))
+
+
+def bench_contact(backend: str, n: int, steps: int, solver: str = "auto") -> ContactRow:
+    """Time ``steps`` steps of the sphere scene in contact, and of the same scene without its ball."""
+    import dataclasses
+
+    from deformable.contact import contact_points
+
+    nodes = n if backend == "fd" else n + 1
+    base = scenes.config("sphere", nodes=(nodes, nodes))
+    cfg = base.replace(gap=0.5 * base.contact.distance)
+    scene = scenes.build(cfg)
+    model = make_model(scene, backend)
+    with_ball, it_ball = _timed_steps(model, cfg.dt, steps, solver)
+    free = make_model(dataclasses.replace(scene, obstacles=(), contact=None), backend)
+    without, it_free = _timed_steps(free, cfg.dt, steps, solver)
+    return ContactRow(backend, f"{n}x{n}", 3 * model.ndof, contact_points(model).P, it_ball, it_free, with_ball,
+                      without, _peak_memory())
+
+
+def format_contact(rows) -> str:
+    """A markdown table of contact rows (times in ms)."""
+    lines = ["| backend | grid | unknowns | contact points | Newton / step, ball | Newton / step, none | step ms, ball "
+             "| step ms, none | step ratio | iteration ratio | peak MB |", "|" + "---|" * 11]
+    for r in rows:
+        lines.append(f"| {r.backend} | {r.grid}{' nodes' if r.backend == 'fd' else ' el.'} | {r.unknowns} | "
+                     f"{r.contact_points} | {r.newton_contact:.2f} | {r.newton_free:.2f} | {1e3 * r.step_contact:.1f} "
+                     f"| {1e3 * r.step_free:.1f} | {r.step_ratio:.2f} | {r.iteration_ratio:.2f} | {r.peak_mb:.0f} |")
+    return "\n".join(lines)
+
+
 # -- the command -------------------------------------------------------------------------
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
     """Comma-separated grid sizes, each at least 3; ValueError naming ``flag`` otherwise."""
@@ -279,6 +357,8 @@ def _parse(args):
     sizes = _sizes(args.sizes, "--sizes")
     implicit = {"fd": _sizes(args.implicit_fd, "--implicit-fd", allow_empty=True),
                 "fe": _sizes(args.implicit_fe, "--implicit-fe", allow_empty=True)}
+    contact = {"fd": _sizes(args.contact_fd, "--contact-fd", allow_empty=True),
+               "fe": _sizes(args.contact_fe, "--contact-fe", allow_empty=True)}
     try:
         steps = int(args.steps)
     except ValueError:
@@ -286,7 +366,7 @@ def _parse(args):
     if steps < 1:
         raise InputError(f"--steps must be a positive integer, got {args.steps!r}")
     make_solver(args.solver)  # a bad or missing solver is refused before any work
-    return backends, sizes, implicit, steps
+    return backends, sizes, implicit, contact, steps
 
 
 def _write(path: Path, rows, extra=()) -> None:
@@ -301,7 +381,7 @@ def execute(args) -> int:
     """``deformable bench``: print the tables and write bench.csv and bench_implicit.csv."""
     from validation.harness.report import writable_folder
 
-    backends, sizes, implicit, steps = _parse(args)
+    backends, sizes, implicit, contact, steps = _parse(args)
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
     rows = [_in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
     print(format_table(rows))
@@ -314,4 +394,10 @@ def execute(args) -> int:
                                                     ("iteration_ratio", lambda r: r.iteration_ratio),
                                                     ("step_ratio", lambda r: r.step_ratio)])
         print(f"wrote {out / 'bench_implicit.csv'}")
+    crows = [_in_own_process(bench_contact, b, n, steps, args.solver) for b in backends for n in contact[b]]
+    if crows:
+        print(format_contact(crows))
+        _write(out / "bench_contact.csv", crows, [("step_ratio", lambda r: r.step_ratio),
+                                                   ("iteration_ratio", lambda r: r.iteration_ratio)])
+        print(f"wrote {out / 'bench_contact.csv'}")
     return 0

@@ -66,7 +66,8 @@ from pathlib import Path
 
 import deformable
 from deformable import scenes
-from deformable.dynamics import SCHEMES, EnergyMonitor, State, TimeStepper
+from deformable.contact import clearance, require_outside
+from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
 from deformable.output import (
     CheckpointWriter,
@@ -301,6 +302,11 @@ def prepare(args) -> Run:
     else:
         X0 = model.initial_state()
         run.start = None
+    if scene.obstacles:  # a start inside an obstacle cannot be stepped: refused before anything is written
+        try:
+            require_outside(model, X0 if run.start is None else run.start.X, "the start")
+        except ValueError as err:
+            raise _Error(str(err)) from None
     t_now = 0.0 if run.start is None else run.start.t
     step_now = 0 if run.start is None else run.start.step
     if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
@@ -397,6 +403,9 @@ def simulate(run: Run, progress: bool = False):
         writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None)
         energy = EnergyMonitor(every=max(1, int(round(run.every / cfg.dt))))
         trackers = [writer, energy]
+        run.clearance = []  # with obstacles: the clearance after every step (m)
+        if run.scene.obstacles:
+            trackers.append(Callback(lambda s: run.clearance.append(clearance(run.model, s.X))))
         ckpt = None
         if run.ck_every:
             ckpt = CheckpointWriter(run.out, f"{cfg.scene}-checkpoint", run.ck_every, run.X0, **meta)
@@ -427,7 +436,8 @@ def execute(args) -> int:
               f"last good state (t = {result.state.t:.6g} s) in {written[-1]}", file=sys.stderr)
     if run.render:
         pngs = render_series(writer.path, run.out / "frames", field=run.field, progress=not quiet,
-                             title=f"{cfg.scene} ({run.backend}, {cfg.nodes[0]}x{cfg.nodes[1]})")
+                             title=f"{cfg.scene} ({run.backend}, {cfg.nodes[0]}x{cfg.nodes[1]})",
+                             obstacles=run.scene.obstacles)
         if pngs and not quiet:
             print(f"rendered {len(pngs) - 1} frames and {pngs[-1]}")
     if not quiet:
@@ -435,4 +445,10 @@ def execute(args) -> int:
               f"(dt = {cfg.dt:g} s, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}, {run.stepper.scheme}) in "
               f"{wall:.1f} s wall; energy: stretching {e.stretching:.4g} J, bending {e.bending:.4g} J, kinetic "
               f"{kinetic:.4g} J; {writer.frames} frames in {writer.path}")
+        if run.clearance:
+            print(f"{cfg.scene}: smallest clearance over {len(run.clearance)} steps {min(run.clearance):.3g} m "
+                  f"(final {run.clearance[-1]:.3g} m)")
+        report = scenes.SCENES[cfg.scene].report
+        if report is not None:
+            print(f"{cfg.scene}: {report(cfg, run.model, result.state.X)}")
     return 0 if result.status != "diverged" else 1

@@ -5,13 +5,24 @@ Each module defines one :class:`~validation.harness.study.Study` as ``STUDY``.
 
 from __future__ import annotations
 
-from . import compatibility, cross, modes, paper, statics, temporal, tensors, variational, work
+from . import (
+    compatibility,
+    contact,
+    cross,
+    modes,
+    paper,
+    statics,
+    temporal,
+    tensors,
+    variational,
+    work,
+)
 
 __all__ = ["STUDIES", "get_study"]
 
 #: name -> Study, in the order ``deformable validate`` runs them
 STUDIES = {m.STUDY.name: m.STUDY for m in (tensors, modes, statics, cross, temporal, compatibility, work,
-                                           variational, paper)}
+                                           variational, paper, contact)}
 
 
 def get_study(name: str):

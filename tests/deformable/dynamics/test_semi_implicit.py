@@ -3,7 +3,6 @@
 import numpy as np
 
 import deformable as dm
-
 from validation.harness.backends import make_model
 
 from ...conftest import ALL_EDGES, flat_model, sine_eigenvalue, vertical_hanging

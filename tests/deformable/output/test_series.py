@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.sheet import Plane
 from deformable.output import NodeFields, XDMFWriter, node_fields
+from deformable.sheet import Plane
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 

@@ -29,7 +29,7 @@ def test_a_rest_curvature_is_a_cylinder_or_no_surface(tmp_path, capsys, curvatur
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["drape"], "unknown scene 'drape'"),
+    (["tablecloth"], "unknown scene 'tablecloth'"),
     (["curtain", "--rtol", "2"], "--rtol must be a number in (0, 1)"),
     (["curtain", "--rtol", "tight"], "--rtol must be a number in (0, 1)"),
     (["curtain", "--grid", "5x5"], "at least 9 points a side"),

@@ -110,8 +110,13 @@ def _bad_cases(tmp_path, ck):
     toml.write_text('scene = "flag"\nwindd = 3.0\n')
     junk = tmp_path / "junk.npz"
     junk.write_bytes(b"not a checkpoint")
+    inside = tmp_path / "inside.toml"
+    inside.write_text('scene = "floor"\nnodes = [5, 5]\n\n[[obstacles]]\nkind = "sphere"\nradius = 0.2\n'
+                      'center = [0.5, 0.5, 0.3]\n')
+    bad_obstacle = tmp_path / "bad_obstacle.toml"
+    bad_obstacle.write_text('scene = "floor"\n\n[[obstacles]]\nkind = "sphere"\ncentre = [0, 0, 0]\n')
     return {
-        "unknown scene": (["drape"], "unknown scene 'drape'"),
+        "unknown scene": (["tablecloth"], "unknown scene 'tablecloth'"),
         "unknown TOML key": ([str(toml)], "unknown key 'windd'"),
         "malformed grid": (["flag", "--grid", "32by32"], "malformed grid '32by32'"),
         "tiny grid": (["flag", "--grid", "2x8"], "at least 3 nodes"),
@@ -127,13 +132,18 @@ def _bad_cases(tmp_path, ck):
         "resume not a checkpoint": (["flag", "--resume", str(junk)], "cannot read checkpoint"),
         "resume missing": (["flag", "--resume", str(tmp_path / "none.npz")], "cannot read checkpoint"),
         "resume past the end": (["--steps", "1", "--resume", str(ck)], "nothing to do"),
+        "start inside an obstacle": ([str(inside)], "lies 0.2 m inside obstacle 1 (sphere)"),
+        "unknown obstacle key": ([str(bad_obstacle)], "unknown key 'centre' in scene field obstacles[0]"),
+        "papers scheme with the barrier": (["floor", "--force-model", "tpbf87"],
+                                           "set the contact method to 'exponential'"),
     }
 
 
 @pytest.mark.parametrize("case", ["unknown scene", "unknown TOML key", "malformed grid", "tiny grid", "dt zero",
                                   "dt negative", "dt text", "unwritable output", "unknown backend", "unknown field",
                                   "resume other scene", "resume other grid", "resume other dt",
-                                  "resume not a checkpoint", "resume missing", "resume past the end"])
+                                  "resume not a checkpoint", "resume missing", "resume past the end",
+                                  "start inside an obstacle", "unknown obstacle key", "papers scheme with the barrier"])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(case, tmp_path, capsys, flag_checkpoint):
     argv, message = _bad_cases(tmp_path, flag_checkpoint)[case]
     out_dir = tmp_path / "out"

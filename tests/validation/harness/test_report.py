@@ -5,7 +5,12 @@ import json
 
 import pytest
 
-from validation.harness.report import markdown_table, writable_folder, write_index, write_study
+from validation.harness.report import (
+    markdown_table,
+    writable_folder,
+    write_index,
+    write_study,
+)
 from validation.harness.study import Figure, Line, Panel, StudyResult, Table
 
 

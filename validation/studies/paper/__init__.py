@@ -37,8 +37,24 @@ from validation.harness.study import Levels, Study, Table
 
 from . import micro, renders, scaling, sensitivity, stability
 from .analysis import classify, predictions, trajectory_difference
-from .cases import (FROZEN, HANGING, MAP_SCENES, RENDERS, RUNAWAY_G, SCALE, SETTINGS, TIME_SCALE, TRIPLES, VISIBLE,
-                    XI_BASE, Case, fields, paper_config, run_case, spectrum)
+from .cases import (
+    FROZEN,
+    HANGING,
+    MAP_SCENES,
+    RENDERS,
+    RUNAWAY_G,
+    SCALE,
+    SETTINGS,
+    TIME_SCALE,
+    TRIPLES,
+    VISIBLE,
+    XI_BASE,
+    Case,
+    fields,
+    paper_config,
+    run_case,
+    spectrum,
+)
 
 __all__ = ["STUDY", "Case", "run_case", "SETTINGS", "spectrum", "predictions", "trajectory_difference", "classify",
            "RUNAWAY_G"]

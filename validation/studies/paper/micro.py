@@ -14,7 +14,6 @@ discretise G0, B0 from the same rest shape).
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from validation.harness.backends import BACKENDS

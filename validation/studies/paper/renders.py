@@ -8,7 +8,6 @@ reader to judge.
 from __future__ import annotations
 
 import logging
-
 import math
 
 from validation.harness.backends import BACKENDS

@@ -10,8 +10,6 @@ change the motion (measured).
 
 from __future__ import annotations
 
-
-
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Table
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 
-
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 

@@ -1,0 +1,274 @@
+r"""Study ``contact``: no penetration, friction's two regimes, the energy of an impact, the drape coefficient.
+
+Four experiments on both backends (:mod:`deformable.contact`, the IPC barrier
+of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
+
+1. Clearance. The contact scenes ``floor``, ``sphere`` and ``drape`` on a
+   small grid, and a fast drop (a sheet 1 cm above the floor moving down at
+   5 m/s): :func:`deformable.clearance`, the smallest signed distance of every
+   contact point to every obstacle, at every step. Expectation: > 0 always
+   (the line search clips every Newton step to a safe fraction of the exact
+   largest safe step, so no iterate can cross).
+2. Inclined plane. A 20 cm sheet resting on a frictional plane (mu_f = 0.3)
+   under gravity tilted by a, 1 degree either side of the friction angle
+   atan(mu_f) and at 30 degrees. Theory (Coulomb): below, it sticks (its
+   speed over the second half of the run stays below the slip speed eps_v,
+   the smoothing's creep); above, it slides with acceleration
+   g (sin a - mu_f cos a). Expectation: the acceleration fitted over the
+   second half of the run within 2% of that.
+3. Energy of an impact. A sheet dropped 5 cm onto the frictionless floor
+   without damping (gamma = 0), Newmark's average acceleration (energy
+   conserving for a linear system) against implicit Euler (dissipative).
+   Total energy E = elastic (13) + kinetic + barrier - (weight . x).
+   Reported: the largest rise and fall of E over the run against the energy
+   of the fall, m g h (the model's own weight times h); checked: implicit
+   Euler's E never rises (it dissipates), Newmark's error falls with dt.
+4. Drape. The Cusick drape test (:mod:`deformable.drape`) under refinement
+   (FD 9, 17, 33 nodes a side; FE 4, 8, 16 elements a side at quick levels),
+   each run to rest. Expectation: the changes between levels fall, and FD and
+   FE agree within 2% at the finest level.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import deformable as dm
+from deformable import scenes
+from deformable.newton import flat
+from deformable.sheet import Plane
+from validation.harness.backends import make_model
+from validation.harness.study import Levels, Study, Table, nodes_at
+
+#: the sheet of the inclined-plane and drop experiments: a light cloth, no air damping
+CLOTH = dict(mu=0.2, gamma=0.0, eta=np.full((2, 2), 20.0), xi=np.full((2, 2), 1e-5))
+#: the coarsest grids (nodes a side)
+COARSEST = {"fd": 9, "fe": 5}
+#: the friction coefficient and the angles (degrees from the friction angle, and one far above) of the incline
+FRICTION = 0.3
+INCLINES = (-1.0, 1.0, 13.3)
+#: clearance runs: (scene, t_end s, fields)
+CLEARANCE_SCENES = (("floor", 0.25, dict(height=0.05)), ("sphere", 0.25, {}), ("drape", 0.25, {}))
+
+
+def _run(model, dt, t_end, X0=None, V0=None, scheme=None, watch=None):
+    """Run model from X0, V0 to t_end; returns (RunResult, clearances per step, watch(state) per step)."""
+    stepper = dm.TimeStepper(model, dt, scheme=scheme)
+    clear, seen = [], []
+
+    def record(s):
+        clear.append(dm.clearance(model, s.X))
+        if watch is not None:
+            seen.append(watch(stepper, s))
+
+    X0 = model.initial_state() if X0 is None else X0
+    record(stepper.start(X0, V0=V0))
+    result = stepper.run(X0, V0=V0, t_end=t_end, trackers=[dm.Callback(record)])
+    if result.status != "finished":
+        raise RuntimeError(f"{model.scene.name} ({type(model).__name__}): {result.message}")
+    return result, np.array(clear), seen
+
+
+@dataclass(frozen=True)
+class SceneCase:
+    backend: str
+    scene: str
+    nodes: int
+    t_end: float
+
+
+def run_scene(case: SceneCase) -> dict:
+    """A contact scene on a small grid: its smallest clearance over every step and contact point."""
+    fields_ = dict(next(f for s, _, f in CLEARANCE_SCENES if s == case.scene))
+    cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **fields_)
+    model = make_model(scenes.build(cfg), case.backend)
+    result, clear, _ = _run(model, cfg.dt, case.t_end)
+    return {"steps": result.steps, "clearance": float(clear.min()), "final": float(clear[-1])}
+
+
+def drop_scene(nodes: int, height: float, friction: float = 0.0, direction=(0.0, 0.0, -1.0)) -> dm.Scene:
+    """A 20 cm cloth, flat and horizontal at ``height`` above the floor z = 0, under gravity along ``direction``."""
+    sheet = dm.Sheet(size=(0.2, 0.2), nodes=(nodes, nodes), initial=Plane(origin=(0.0, 0.0, height)))
+    return dm.Scene(sheet, dm.Material(**CLOTH), forces=[dm.Gravity(9.81, direction=direction)],
+                    obstacles=[dm.HalfSpace()], contact=dm.Contact(distance=1e-3, friction=friction),
+                    force_model="variational", name="drop")
+
+
+@dataclass(frozen=True)
+class DropCase:
+    backend: str
+    nodes: int
+    speed: float
+
+
+def run_fast_drop(case: DropCase) -> dict:
+    """A sheet 1 cm above the floor moving down at ``speed`` (m/s): smallest clearance, and where it ends."""
+    model = make_model(drop_scene(case.nodes, 0.01), case.backend)
+    X0 = model.initial_state()
+    V0 = np.zeros_like(X0)
+    V0[model.value_dofs, 2] = -case.speed
+    result, clear, _ = _run(model, 2e-3, 0.05, X0, V0)
+    return {"steps": result.steps, "clearance": float(clear.min()), "final": float(clear[-1])}
+
+
+def run_clearance(case) -> dict:
+    """A SceneCase or a DropCase."""
+    return run_scene(case) if isinstance(case, SceneCase) else run_fast_drop(case)
+
+
+@dataclass(frozen=True)
+class InclineCase:
+    backend: str
+    nodes: int
+    degrees: float
+    friction: float
+    t_end: float = 0.4
+
+
+def run_incline(case: InclineCase) -> dict:
+    """A sheet resting on a plane tilted by ``degrees`` (gravity tilted instead): its mean motion down the slope."""
+    a = math.radians(case.degrees)
+    g = 9.81
+    model = make_model(drop_scene(case.nodes, 1e-4, case.friction, (math.sin(a), 0.0, -math.cos(a))), case.backend)
+    nodes = np.asarray(model.value_dofs)
+    t_end = case.t_end
+    result, clear, seen = _run(model, 2e-3, t_end, watch=lambda st, s: (s.t, np.mean(s.X[nodes, 0]),
+                                                                       np.mean(s.V[nodes, 0])))
+    t, x, v = np.array(seen).T
+    late = t >= 0.5 * t_end
+    return {"acceleration": float(2 * np.polyfit(t[late], x[late], 2)[0]), "theory": g * (math.sin(a) - case.friction
+            * math.cos(a)), "speed": float(np.max(np.abs(v[late]))), "slip": model.scene.contact.slip,
+            "clearance": float(clear.min())}
+
+
+@dataclass(frozen=True)
+class EnergyCase:
+    backend: str
+    nodes: int
+    scheme: str
+    dt: float = 2e-3
+
+
+def run_energy(case: EnergyCase) -> dict:
+    """A frictionless undamped drop of 5 cm: the total energy's largest rise and fall, in units of m g h."""
+    height = 0.05
+    model = make_model(drop_scene(case.nodes, height), case.backend)
+
+    def total(stepper, s):
+        fl = stepper._scheme.flat
+        x = flat(s.X)
+        return (model.energy(s.X).total + model.kinetic_energy(s.V) + fl.contact.energy(x) - fl.load(s.t) @ x)
+
+    result, clear, E = _run(model, case.dt, 0.25, scheme=case.scheme, watch=total)
+    E = np.array(E)
+    mgh = -float(np.sum(model.load(model.initial_state(), 0.0)[:, 2])) * height  # the model's own weight
+    return {"rise": float(np.max(E - E[0]) / mgh), "fall": float(np.max(E[0] - E) / mgh),
+            "end": float((E[-1] - E[0]) / mgh), "clearance": float(clear.min())}
+
+
+@dataclass(frozen=True)
+class DrapeCase:
+    backend: str
+    nodes: int
+    t_end: float
+
+
+def run_drape(case: DrapeCase) -> dict:
+    """The drape scene on nodes x nodes, run to t_end: its drape coefficient and smallest clearance."""
+    from deformable.drape import drape_coefficient
+
+    cfg = scenes.config("drape", nodes=(case.nodes, case.nodes))
+    model = make_model(scenes.build(cfg), case.backend)
+    result, clear, _ = _run(model, cfg.dt, case.t_end)
+    return {"dc": drape_coefficient(model, result.state.X, cfg.table()), "clearance": float(clear.min()),
+            "kinetic": float(model.kinetic_energy(result.state.V))}
+
+
+def fill(res, levels: int, runner) -> None:
+    backends = ("fd", "fe")
+    small = {"fd": 9, "fe": 5}
+    cases = ([SceneCase(b, s, small[b], t) for s, t, _ in CLEARANCE_SCENES for b in backends]
+             + [DropCase(b, small[b], 5.0) for b in backends])
+    raw = runner.map(run_clearance, cases, desc="clearance")
+    rows = []
+    for c, r in zip(cases, raw):
+        label = f"{c.scene if isinstance(c, SceneCase) else 'drop at 5 m/s'} {c.backend.upper()} {c.nodes}x{c.nodes}"
+        rows.append((label, r["steps"], r["clearance"], r["final"]))
+    res.check_all("clearance", "clearance > 0 at every step and contact point", {r[0]: r[2] > 0 for r in rows})
+    res.tables.append(Table("clearance", "Smallest clearance over every step and contact point",
+                            ("run", "steps", "smallest clearance (m)", "final clearance (m)"), rows))
+    res.data["clearance"] = {r[0]: r[2] for r in rows}
+
+    angle = math.degrees(math.atan(FRICTION))
+    inc = [InclineCase(b, 5, angle + d, FRICTION) for b in backends for d in INCLINES]
+    raw = runner.map(run_incline, inc, desc="incline")
+    rows, stick, slide = [], {}, {}
+    for c, r in zip(inc, raw):
+        label = f"{c.backend.upper()} a = {c.degrees:.2f} deg"
+        rows.append((label, r["theory"], r["acceleration"], r["speed"], r["clearance"]))
+        if r["theory"] < 0:
+            stick[label] = r["speed"] < r["slip"] and r["clearance"] > 0
+        else:
+            slide[label] = abs(r["acceleration"] - r["theory"]) <= 0.02 * r["theory"] and r["clearance"] > 0
+    res.check_all("incline: sticks below the friction angle", f"speed below the slip speed below atan({FRICTION}) = "
+                  f"{angle:.2f} deg", stick)
+    res.check_all("incline: slides above it", "acceleration within 2% of g (sin a - mu cos a)", slide)
+    res.tables.append(Table("incline", f"A sheet on an inclined plane, mu_f = {FRICTION}",
+                            ("run", "g (sin a - mu cos a) (m/s^2)", "fitted acceleration (m/s^2)",
+                             "largest speed, 2nd half (m/s)",
+                             "smallest clearance (m)"), rows))
+    res.data["incline"] = [dict(zip(("run", "theory", "acceleration", "speed", "clearance"), r)) for r in rows]
+
+    en = ([EnergyCase(b, 5, "implicit-euler") for b in backends]
+          + [EnergyCase(b, 5, "newmark", dt) for b in backends for dt in NEWMARK_DT])
+    raw = runner.map(run_energy, en, desc="energy")
+    rows = [(f"{c.backend.upper()} {c.scheme}", c.dt, r["rise"], r["fall"], r["end"], r["clearance"])
+            for c, r in zip(en, raw)]
+    res.check_all("energy: implicit Euler dissipates", "E never rises (1e-9 m g h)",
+                  {r[0]: r[2] <= 1e-9 and r[5] > 0 for r in rows if "euler" in r[0]})
+    for b in backends:
+        rise = [r[2] for r in rows if r[0] == f"{b.upper()} newmark"]
+        res.check(f"energy: {b.upper()} Newmark's energy error falls with dt", "largest rise of E falls as dt halves",
+                  ", ".join(f"{v:.3g}" for v in rise), len(rise) >= 2 and np.all(np.diff(rise) < 0))
+    res.check_all("energy: clearance", "clearance > 0 at every step", {f"{r[0]} dt {r[1]:g}": r[5] > 0 for r in rows})
+    res.findings.append("The barrier is far stiffer at impact than at rest, and an impact at 1 m/s crosses the 1 mm "
+                        "activation distance within a step: implicit Euler absorbs the fall's whole energy (an "
+                        "inelastic landing, its numerical dissipation), Newmark's trapezoidal rule gains energy at "
+                        "impact (it conserves energy only for quadratic potentials), an error that falls with dt but "
+                        "is still a multiple of m g h at dt = 0.25 ms. Contact runs use implicit Euler.")
+    res.tables.append(Table("energy", "Frictionless undamped drop of 5 cm: total energy E against m g h",
+                            ("run", "dt (s)", "largest rise / mgh", "largest fall / mgh", "end - start / mgh",
+                             "smallest clearance (m)"), rows))
+    res.data["energy"] = [dict(zip(("run", "dt", "rise", "fall", "end", "clearance"), r)) for r in rows]
+
+    dr = [DrapeCase(b, nodes_at(k, COARSEST[b]), DRAPE_T_END) for b in backends for k in range(levels)]
+    raw = runner.map(run_drape, dr, desc="drape")
+    rows, dcs = [], {}
+    for c, r in zip(dr, raw):
+        rows.append((c.backend.upper(), c.nodes, r["dc"], r["kinetic"], r["clearance"]))
+        dcs.setdefault(c.backend, []).append(r["dc"])
+    for b in backends:
+        changes = np.abs(np.diff(dcs[b]))
+        res.check(f"drape: {b.upper()} converges", "changes between levels fall",
+                  ", ".join(f"{d:.4f}" for d in changes),
+                  changes.size >= 2 and np.all(np.diff(changes) < 0))
+    fd, fe = dcs["fd"][-1], dcs["fe"][-1]
+    res.check("drape: FD and FE agree", "within 2% at the finest level", f"FD {fd:.4f}, FE {fe:.4f}",
+              abs(fd - fe) <= 0.02 * abs(fe))
+    res.check_all("drape: clearance", "clearance > 0 at every step", {f"{r[0]} {r[1]}": r[4] > 0 for r in rows})
+    res.tables.append(Table("drape", f"Cusick drape coefficient at t = {DRAPE_T_END} s",
+                            ("backend", "nodes a side", "drape coefficient", "kinetic energy (J)",
+                             "smallest clearance (m)"), rows))
+    res.data["drape"] = dcs
+
+
+#: Newmark's steps in the energy experiment (s)
+NEWMARK_DT = (1e-3, 5e-4, 2.5e-4)
+#: how long the drape runs (s)
+DRAPE_T_END = 1.5
+
+STUDY = Study("contact", "contact: clearance, stick and slip on an incline, the energy of an impact, Cusick drape",
+              Levels(quick=3, full=4, minimum=3, maximum=5), fill, in_default=False)
