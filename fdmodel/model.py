@@ -71,14 +71,7 @@ from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weight
 
 from .clamp import GhostRows
 from .energy import DiscreteEnergy, SlotMap
-from .operators import (
-    cell_tangents,
-    central_tangents,
-    node_tensors,
-    operators,
-    tangents,
-    valid_rows,
-)
+from .operators import cell_tangents, central_tangents, node_tensors, operators, tangents, valid_rows
 from .strength import StrengthMatrix
 
 __all__ = ["MEMBRANE_EIGENVALUE", "WEIGHTINGS", "FDModel"]

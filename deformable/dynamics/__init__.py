@@ -9,14 +9,7 @@
 
 from .state import DivergenceError, RunResult, StalledError, State
 from .stepper import SCHEMES, TimeStepper
-from .trackers import (
-           Callback,
-           DivergenceGuard,
-           EnergyMonitor,
-           ProgressBar,
-           Stop,
-           Tracker,
-)
+from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Stop, Tracker
 
 __all__ = ["DivergenceError", "RunResult", "StalledError", "State", "SCHEMES", "TimeStepper", "Callback", "DivergenceGuard",
            "EnergyMonitor", "ProgressBar", "Stop", "Tracker"]

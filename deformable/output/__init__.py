@@ -12,12 +12,7 @@ A series and its frames from one's own script (folders are created as needed)::
     dm.render_series("out/run.xdmf", "out/frames", field="speed")
 """
 
-from .checkpoint import (
-           CHECKPOINT_KEYS,
-           CheckpointWriter,
-           load_checkpoint,
-           save_checkpoint,
-)
+from .checkpoint import CHECKPOINT_KEYS, CheckpointWriter, load_checkpoint, save_checkpoint
 from .folder import RunFolder
 from .render import FIELDS, read_series, render_frame, render_series
 from .series import NodeFields, XDMFWriter, frame_time, node_fields

@@ -4,13 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from deformable.assembly import (
-    FixedPattern,
-    ReducedSystem,
-    SymmetricElements,
-    canonical,
-    element_vectors,
-)
+from deformable.assembly import FixedPattern, ReducedSystem, SymmetricElements, canonical, element_vectors
 
 
 def test_fixed_pattern_sums_contributions_like_coo(rng):

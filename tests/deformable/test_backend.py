@@ -18,14 +18,7 @@ import deformable as dm
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 
-from ..conftest import (
-    FULL_ETA,
-    FULL_XI,
-    flat_model,
-    flat_scene,
-    gradient_error,
-    hessian_error,
-)
+from ..conftest import FULL_ETA, FULL_XI, flat_model, flat_scene, gradient_error, hessian_error
 
 #: attributes and methods the contract names (deformable.backend.Backend's docstring)
 ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads", "contact_samples"}

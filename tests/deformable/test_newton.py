@@ -6,15 +6,7 @@ import scipy.sparse as sp
 
 import deformable as dm
 from deformable.linalg import available
-from deformable.newton import (
-    WATCHDOG,
-    ConvergenceError,
-    FlatEnergy,
-    Newton,
-    NewtonSettings,
-    flat,
-    unflat,
-)
+from deformable.newton import WATCHDOG, ConvergenceError, FlatEnergy, Newton, NewtonSettings, flat, unflat
 
 from ..conftest import flat_model
 

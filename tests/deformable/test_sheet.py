@@ -6,14 +6,7 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.sheet import (
-    CELL_CORNERS,
-    EDGES,
-    Plane,
-    as_surface,
-    bilinear,
-    bilinear_weights,
-)
+from deformable.sheet import CELL_CORNERS, EDGES, Plane, as_surface, bilinear, bilinear_weights
 from validation.harness.surfaces import get
 
 

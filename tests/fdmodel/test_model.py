@@ -14,14 +14,7 @@ from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
 from validation.harness.surfaces import get
 
-from ..conftest import (
-    ALL_EDGES,
-    FULL_ETA,
-    FULL_XI,
-    flat_model,
-    free_dofs,
-    sine_eigenvalue,
-)
+from ..conftest import ALL_EDGES, FULL_ETA, FULL_XI, flat_model, free_dofs, sine_eigenvalue
 
 
 def test_rest_state_force_and_energy_are_exactly_zero():

@@ -69,13 +69,7 @@ from deformable import scenes
 from deformable.contact import clearance, require_outside
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
-from deformable.output import (
-    CheckpointWriter,
-    XDMFWriter,
-    frame_time,
-    load_checkpoint,
-    save_checkpoint,
-)
+from deformable.output import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
 from deformable.output.folder import RunFolder, fresh, write_text
 from deformable.output.render import FIELDS, render_series
 from deformable.resources import check_series

@@ -5,18 +5,7 @@ Each module defines one :class:`~validation.harness.study.Study` as ``STUDY``.
 
 from __future__ import annotations
 
-from . import (
-    compatibility,
-    contact,
-    cross,
-    modes,
-    paper,
-    statics,
-    temporal,
-    tensors,
-    variational,
-    work,
-)
+from . import compatibility, contact, cross, modes, paper, statics, temporal, tensors, variational, work
 
 __all__ = ["STUDIES", "get_study"]
 

@@ -28,25 +28,11 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from deformable.compatibility import (
-    IncompatibleRestState,
-    check_compatibility,
-    check_rest_state,
-    warn_if_incompatible,
-)
+from deformable.compatibility import IncompatibleRestState, check_compatibility, check_rest_state, warn_if_incompatible
 from validation.harness import surfaces as sf
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 COARSEST = 17
 MARGIN = 2

@@ -42,16 +42,7 @@ import scipy.sparse.linalg as spla
 import deformable as dm
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order, pairwise_orders
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 L1, L2, MU = 1.0, 0.8, 1.0
 ETA, G0, XI, B0 = 50.0, 0.81, 0.1, -0.5

@@ -31,16 +31,7 @@ import scipy.sparse.linalg as spla
 import deformable as dm
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order, pairwise_orders
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 L1, L2, BETA, Q = 1.0, 0.8, 0.02, 1e-3
 COARSEST = {"fd": 9, "fe": 5}

@@ -20,15 +20,7 @@ import numpy as np
 import deformable as dm
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order, pairwise_orders
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, order_check
 
 
 def scene(nodes: int) -> dm.Scene:

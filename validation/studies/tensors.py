@@ -42,16 +42,7 @@ import deformable as dm
 from validation.harness import surfaces as sf
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 COMPONENTS = {"G11": ("G", 0, 0), "G12": ("G", 0, 1), "G22": ("G", 1, 1),
               "B11": ("B", 0, 0), "B12": ("B", 0, 1), "B22": ("B", 1, 1)}

@@ -50,16 +50,7 @@ import deformable as dm
 from deformable import scenes
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order, pairwise_orders
-from validation.harness.study import (
-    Figure,
-    Levels,
-    Line,
-    Panel,
-    Study,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Figure, Levels, Line, Panel, Study, Table, nodes_at, order_check
 
 STRIP = dict(L=1.0, W=0.2, eta=100.0, xi=1.0, width_nodes=5)
 KAPPAS = (2.0, -2.0)

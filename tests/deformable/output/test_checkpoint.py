@@ -4,12 +4,7 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.output import (
-    CHECKPOINT_KEYS,
-    CheckpointWriter,
-    load_checkpoint,
-    save_checkpoint,
-)
+from deformable.output import CHECKPOINT_KEYS, CheckpointWriter, load_checkpoint, save_checkpoint
 
 META = dict(scene="flag", config='scene = "flag"\n', backend="fd", dt=1e-3, nodes=(4, 5))
 

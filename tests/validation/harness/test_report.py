@@ -5,12 +5,7 @@ import json
 
 import pytest
 
-from validation.harness.report import (
-    markdown_table,
-    writable_folder,
-    write_index,
-    write_study,
-)
+from validation.harness.report import markdown_table, writable_folder, write_index, write_study
 from validation.harness.study import Figure, Line, Panel, StudyResult, Table
 
 

@@ -19,13 +19,7 @@ import pytest
 
 from deformable import scenes
 from validation.harness import runner as runner_module
-from validation.harness.runner import (
-    Progress,
-    Runner,
-    counted,
-    duration,
-    parse_scheduler,
-)
+from validation.harness.runner import Progress, Runner, counted, duration, parse_scheduler
 from validation.harness.sweep import Sweep, run_case
 from validation.studies import STUDIES
 from validation.studies.paper import Case

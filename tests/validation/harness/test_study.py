@@ -4,14 +4,7 @@ import numpy as np
 import pytest
 
 from validation.harness.runner import Runner
-from validation.harness.study import (
-    Levels,
-    Study,
-    StudyResult,
-    Table,
-    nodes_at,
-    order_check,
-)
+from validation.harness.study import Levels, Study, StudyResult, Table, nodes_at, order_check
 
 
 def test_check_all_holds_only_when_every_item_holds():

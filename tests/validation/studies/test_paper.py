@@ -10,23 +10,8 @@ The whole sweep runs under ``slow`` (it is not in the default ``deformable valid
 
 import pytest
 
-from validation.studies.paper import (
-    STUDY,
-    classify,
-    predictions,
-    run_case,
-    spectrum,
-    trajectory_difference,
-)
-from validation.studies.paper.cases import (
-    FROZEN,
-    SCALE,
-    VISIBLE,
-    XI_BASE,
-    Case,
-    fields,
-    paper_config,
-)
+from validation.studies.paper import STUDY, classify, predictions, run_case, spectrum, trajectory_difference
+from validation.studies.paper.cases import FROZEN, SCALE, VISIBLE, XI_BASE, Case, fields, paper_config
 from validation.studies.paper.claims import Claim
 
 from ...conftest import checks_pass

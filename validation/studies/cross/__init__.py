@@ -42,18 +42,7 @@ from validation.harness.orders import fit_order, gci
 from validation.harness.study import Figure, Levels, Line, Panel, Study, Table
 
 from . import paper_force, problems
-from .cases import (
-    DT,
-    DYNAMICS,
-    PROBLEMS,
-    SAMPLE_TIMES,
-    STATICS,
-    T_END,
-    Case,
-    nodes,
-    probe,
-    run_case,
-)
+from .cases import DT, DYNAMICS, PROBLEMS, SAMPLE_TIMES, STATICS, T_END, Case, nodes, probe, run_case
 from .convergence import NORMS, differences
 from .measure import QUANTITIES, difference
 from .work import GRIDS, cpu_to_reach, error_at, run_work, work_cases
