@@ -6,6 +6,7 @@
   change on a flag that flaps in phase;
 - one membrane mode, run in the three regimes of section 3.1, has the roots of the mass-spring formula under
   Newmark and the numerical damping its recurrence predicts under the paper's step;
+- a shipped scene's run records what the measures need.
 """
 
 import math
@@ -15,6 +16,7 @@ import pytest
 
 from deformable.scenes import FoldNoise
 from validation.studies.paper import damping, flag, folds
+from validation.studies.paper.cases import Case, fields, run_case
 
 L = 1.0
 A = np.linspace(0.0, L, 129)
@@ -124,3 +126,14 @@ def test_the_papers_step_damps_an_undamped_mode_as_its_recurrence_predicts():
     predicted = math.log(1 + (w0 * dt) ** 2) / (2 * dt)  # |z| = (1 + w^2 dt^2)^(-1/2)
     assert abs(rate / predicted - 1) <= 1e-6, (rate, predicted)
     assert rate > 0.05 * w0 * (w0 * dt)  # numerical damping about w0^2 dt / 2: not "keeps oscillating"
+
+
+def test_a_shipped_scene_run_records_the_fold_rows_and_the_flag_line():
+    curtain = run_case(Case("scene", "curtain", "fd", 6, fields(force_model="variational"), t_end=0.2,
+                            times=(0.0, 0.2), every=20))
+    assert curtain["status"] == "finished"
+    assert curtain["rows"].shape == (3, len(folds.ROWS), folds.SAMPLES * 5 + 1)  # t = 0, 0.1, 0.2
+    assert np.allclose(curtain["rows_t"], [0.0, 0.1, 0.2]) and sorted(curtain["renders"]) == [0.0, 0.2]
+    assert len(curtain["frames"]) == 3  # every 20 steps of 5 ms, from t = 0
+    flag_run = run_case(Case("scene", "flag", "fd", 6, fields(force_model="variational"), t_end=0.05))
+    assert flag_run["line"].shape == (11, folds.SAMPLES * 5 + 1) and flag_run["rows"].size == 0
