@@ -6,9 +6,11 @@
   change on a flag that flaps in phase;
 - one membrane mode, run in the three regimes of section 3.1, has the roots of the mass-spring formula under
   Newmark and the numerical damping its recurrence predicts under the paper's step;
-- a shipped scene's run records what the measures need.
+- a shipped scene's run records what the measures need;
+- the README's media: a GIF with every frame and a PNG still; bad arguments refused in one line.
 """
 
+import io
 import math
 
 import numpy as np
@@ -137,3 +139,42 @@ def test_a_shipped_scene_run_records_the_fold_rows_and_the_flag_line():
     assert len(curtain["frames"]) == 3  # every 20 steps of 5 ms, from t = 0
     flag_run = run_case(Case("scene", "flag", "fd", 6, fields(force_model="variational"), t_end=0.05))
     assert flag_run["line"].shape == (11, folds.SAMPLES * 5 + 1) and flag_run["rows"].size == 0
+
+
+def _fake_run(frames=4):
+    """A run as media.scene_run records it: a curtain-sized sheet that bulges more each frame."""
+    a1, a2 = np.meshgrid(np.linspace(0.0, 1.0, 9), np.linspace(0.0, 1.2, 11), indexing="ij")
+    pts = [(0.1 * k, np.stack([a1, 0.02 * k * np.sin(3 * math.pi * a1), a2], axis=-1)) for k in range(frames)]
+    return dict(status="finished", t=0.1 * (frames - 1), steps=frames - 1, wall=0.0, frames=pts,
+                renders={pts[-1][0]: pts[-1][1]})
+
+
+def test_media_makes_a_gif_with_every_frame_and_a_png_still():
+    from PIL import Image
+
+    from validation.studies.paper import media
+
+    gif, png = media.scene_media("curtain", _fake_run(3), 9)
+    anim = Image.open(io.BytesIO(gif))
+    assert anim.format == "GIF" and anim.n_frames == 3
+    assert Image.open(io.BytesIO(png)).format == "PNG"
+    first = np.asarray(anim.convert("RGB"))
+    anim.seek(2)
+    assert np.any(np.asarray(anim.convert("RGB")) != first)  # the frames differ
+    assert len(gif) < 1e6
+
+
+@pytest.mark.parametrize("argv, message", [(["--nodes", "2"], "--nodes must be a whole number >= 3"),
+                                           (["--frames", "x"], "--frames must be a whole number >= 1"),
+                                           (["curtian"], "unknown scene 'curtian'"),
+                                           (["--out", "missing"], "is not a folder")])
+def test_media_refuses_bad_input_in_one_line_and_writes_nothing(argv, message, tmp_path, monkeypatch, capsys):
+    from validation.studies.paper import media
+
+    monkeypatch.chdir(tmp_path)
+    if "--out" not in argv:
+        argv = argv + ["--out", str(tmp_path)]
+    assert media.main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []

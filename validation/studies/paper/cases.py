@@ -25,7 +25,7 @@ from . import damping, folds
 __all__ = ["Case", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
            "VISIBLE",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
-           "FOLD_SCENES", "GIF_FRAMES", "scene_cases", "shipped_dt"]
+           "FOLD_SCENES", "scene_cases", "shipped_dt"]
 
 #: The scenes as the paper runs them (section 5): its force (14), eta_12 = xi_12 = 0, xi = 0, the semi-implicit
 #: step at 1-2 ms, and the curtain folded by the paper's mechanism, forces perpendicular to the rest plane on its
@@ -82,8 +82,6 @@ FROZEN = dict(alpha=1.0, beta=1e-3, kappa=1.0, mu=0.2, gamma=0.5, t_end=0.1, dt=
 RENDERS = (("curtain", "Figs 3-4"), ("curtain-silky", "Fig. 5"), ("paper", "Fig. 6"), ("flag", "Figs 7-8"))
 #: the scenes whose folds are measured
 FOLD_SCENES = ("curtain", "curtain-silky", "paper")
-#: frames of a scene's animation (docs/scenes/<scene>.gif)
-GIF_FRAMES = 36
 
 
 @dataclass(frozen=True)
@@ -260,11 +258,8 @@ def scene_cases(s: dict) -> dict:
     picture = (0.0, round(T / 2, 6), T)
 
     def run(scene, b, n, pictures=False, **kw):
-        """A run of a shipped scene; ``pictures``: keep its picture frames (and, FD under its own model, the
-        animation's)."""
-        gif = pictures and b == "fd" and kw.get("force_model", "variational") == "variational"
-        every = int(round(T / scenes.config(scene).dt / GIF_FRAMES)) if gif else 0
-        return Case("scene", scene, b, n, fields(**kw), t_end=T, times=picture if pictures else (), every=every)
+        """A run of a shipped scene; ``pictures``: keep its picture frames."""
+        return Case("scene", scene, b, n, fields(**kw), t_end=T, times=picture if pictures else ())
 
     xi0 = scenes.config("curtain").xi
     for b, n in zip(("fd", "fe"), s["s5"]):

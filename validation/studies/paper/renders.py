@@ -1,4 +1,4 @@
-r"""Section 5 (Figs 3-8) drawn: the shipped scenes, FD and FE side by side, and an animation of each.
+r"""Section 5 (Figs 3-8) drawn: the shipped scenes, FD and FE side by side.
 
 Each picture shows one scene of :mod:`deformable.scenes` (its own model and
 parameters, run for section 5's measurements, :mod:`.folds` and :mod:`.flag`)
@@ -9,9 +9,9 @@ stayed bounded; what the pictures show is for the reader to judge, and the
 numbers of the other sections say how far to trust them. The curtain under
 the paper's force (14) is drawn too, beside its measured folds.
 
-:func:`scene_picture` and :func:`scene_animation` make the PNG and the GIF of
-a scene from its runs; ``python -m validation.studies.paper.media`` writes them
-to docs/scenes/ for the README.
+:func:`scene_picture` makes the PNG of a scene from its runs; the README's
+animations and stills are made by ``python -m validation.studies.paper.media``
+(:mod:`.media`, into docs/scenes/).
 """
 
 from __future__ import annotations
@@ -25,9 +25,9 @@ from validation.harness.study import Figure, Table
 from .analysis import classify
 from .cases import RENDERS
 from .claims import Claim, checks_of
-from .pictures import animation, render
+from .pictures import render
 
-__all__ = ["PICTURES", "picture_runs", "scene_picture", "scene_animation", "measure"]
+__all__ = ["PICTURES", "picture_runs", "decorations", "scene_picture", "measure"]
 
 log = logging.getLogger(__name__)
 
@@ -47,11 +47,14 @@ def _grid(b: str, n: int) -> str:
     return f"FD {n}x{n} nodes" if b == "fd" else f"FE {n - 1}x{n - 1} el."
 
 
-def _decorations(scene: str) -> list:
-    """The rod the curtain hangs from, or the flag's pole, as segments in the scene's coordinates."""
+def decorations(scene: str) -> list:
+    """The rod a curtain hangs from, or the flag's pole, as segments ((x, y, z), (x, y, z)) in the scene's
+    coordinates (m); none for ``hanging``."""
     L1, L2 = scenes.config(scene).size
     if scene == "flag":
         return [((0.0, 0.0, -0.15 * L2), (0.0, 0.0, 1.08 * L2))]
+    if scene == "hanging":
+        return []
     return [((-0.04 * L1, 0.0, L2), (1.04 * L1, 0.0, L2))]
 
 
@@ -62,14 +65,7 @@ def scene_picture(R: dict, scene: str, nodes: dict, force_model: str = "variatio
     for b in BACKENDS:
         r = runs[b]
         frames.append([(f"{_grid(b, nodes[b])}, t = {t:g} s", pts) for t, pts in sorted(r["renders"].items())])
-    return render([row for row in frames if row], size=(300, 280), lines=_decorations(scene))
-
-
-def scene_animation(R: dict, scene: str, nodes: int) -> bytes:
-    """GIF of the scene's FD run (its animation frames)."""
-    r = picture_runs(R, scene)["fd"]
-    frames = [(f"{scene}, FD {nodes}x{nodes}, t = {t:.2f} s", pts) for t, pts in r["frames"]]
-    return animation(frames, lines=_decorations(scene))
+    return render([row for row in frames if row], size=(300, 280), lines=decorations(scene))
 
 
 def measure(res, R, s) -> list[Claim]:
