@@ -46,6 +46,7 @@ def test_wiggles_below_the_hysteresis_and_trends_make_no_fold():
     dip = -0.03 * np.exp(-(((A - 0.125) / 0.015) ** 2))
     split = folds.row_folds(A, base + dip)
     assert split.count == 6 and split.narrowest < 0.05
+    assert abs(split.narrowest_at - 0.125) < 0.03  # and says where it is
 
 
 def test_an_end_of_the_row_is_never_a_fold():

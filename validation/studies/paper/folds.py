@@ -92,12 +92,14 @@ def extrema(y, delta: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RowFolds:
-    """The folds of one row: count, mean and narrowest width (m), peak-to-peak of y (m)."""
+    """The folds of one row: count, mean and narrowest width (m), where the narrowest is (a1 of its middle, m;
+    NaN with fewer than two folds), peak-to-peak of y (m)."""
 
     count: int
     width: float
     narrowest: float
     ptp: float
+    narrowest_at: float = math.nan
 
 
 def row_folds(a, y) -> RowFolds:
@@ -106,21 +108,25 @@ def row_folds(a, y) -> RowFolds:
     ptp = float(np.ptp(y))
     idx = extrema(y, max(DELTA_FRACTION * ptp, DELTA_MIN))
     gaps = np.diff(a[idx])
-    return RowFolds(count=int(idx.size), width=float(gaps.mean()) if gaps.size else math.nan,
-                    narrowest=float(gaps.min()) if gaps.size else math.nan, ptp=ptp)
+    if not gaps.size:
+        return RowFolds(count=int(idx.size), width=math.nan, narrowest=math.nan, ptp=ptp)
+    k = int(np.argmin(gaps))
+    return RowFolds(count=int(idx.size), width=float(gaps.mean()), narrowest=float(gaps[k]), ptp=ptp,
+                    narrowest_at=float(0.5 * (a[idx[k]] + a[idx[k + 1]])))
 
 
 def snapshot_folds(a, rows) -> dict:
     """The folds of a snapshot: ``rows`` (R, P) of y at the material coordinates a (P,).
 
     Returns count (median over rows), width (median of the rows' mean widths, m; NaN when no row has two
-    folds), narrowest (m, over all rows) and ptp (largest peak-to-peak, m).
+    folds), narrowest (m, over all rows) and narrowest_at (its a1, m), ptp (largest peak-to-peak, m).
     """
     per = [row_folds(a, y) for y in np.asarray(rows)]
     widths = [r.width for r in per if np.isfinite(r.width)]
-    narrow = [r.narrowest for r in per if np.isfinite(r.narrowest)]
+    narrow = min((r for r in per if np.isfinite(r.narrowest)), key=lambda r: r.narrowest, default=None)
     return dict(count=float(np.median([r.count for r in per])), width=float(np.median(widths)) if widths else math.nan,
-                narrowest=min(narrow) if narrow else math.nan, ptp=max(r.ptp for r in per),
+                narrowest=narrow.narrowest if narrow else math.nan,
+                narrowest_at=narrow.narrowest_at if narrow else math.nan, ptp=max(r.ptp for r in per),
                 counts=[r.count for r in per])
 
 
@@ -163,7 +169,9 @@ COUNT_TOLERANCE = 0.2
 
 def run_folds(r: dict) -> dict:
     """The fold measure of a recorded run (:func:`validation.studies.paper.cases.scene_cases`): its series and
-    late values, widths also in grid spacings h, the fold wavelength lambda = 2 x width and the theory's."""
+    late values, widths also in grid spacings h, the fold wavelength lambda = 2 x width and the theory's;
+    ``below``: how many snapshots have a fold narrower than :data:`NARROWEST` h, ``below_at``: the range of a1
+    (m) where those narrowest folds sit."""
     from deformable.scenes import fold_wavelength
 
     series = fold_series(r["a"], r["rows_t"], r["rows"])
@@ -171,9 +179,12 @@ def run_folds(r: dict) -> dict:
     cfg = r["config"]
     theory = fold_wavelength(cfg["xi"], cfg["mu"], cfg["g"], cfg["size"][1], cfg["scale"], cfg["force_model"])
     narrow_all = [s["narrowest"] for s in series if np.isfinite(s["narrowest"])]
+    below = [s for s in series if s["narrowest"] < NARROWEST * r["h"]]  # NaN compares False
     return dict(series=series, count=late["count"], width=late["width"], width_h=late["width"] / r["h"],
                 narrowest_h=late["narrowest"] / r["h"], ever_narrowest_h=min(narrow_all) / r["h"] if narrow_all
-                else math.nan, wavelength=2.0 * late["width"], theory=theory, prefactor=2.0 * late["width"] / theory,
+                else math.nan, below=len(below),
+                below_at=(min(s["narrowest_at"] for s in below), max(s["narrowest_at"] for s in below)) if below
+                else (math.nan, math.nan), wavelength=2.0 * late["width"], theory=theory, prefactor=2.0 * late["width"] / theory,
                 depth=max((s["ptp"] for s in series if s["t"] >= r["t"] - LATE - 1e-9), default=math.nan))
 
 
@@ -216,12 +227,14 @@ def measure(res, R: dict, s: dict) -> list:
         r, f = R[k], F[k]
         n = dict(zip(BACKENDS, s["silky"] if sc != "curtain" else s["s5"]))[b]
         rows.append((sc, b.upper(), n if b == "fd" else f"{n - 1} el.", fm, xi, classify(r), r["t"], f["count"],
-                     f["width"], f["width_h"], f["narrowest_h"], f["ever_narrowest_h"], f["wavelength"], f["theory"],
+                     f["width"], f["width_h"], f["narrowest_h"], f["ever_narrowest_h"], f["below"], *f["below_at"],
+                     f["wavelength"], f["theory"],
                      f["prefactor"], f["depth"]))
     res.tables.append(Table(
         "folds", "Section 5 (Figs 3-6): folds of the drawn curtain against xi, both backends and force models",
         ("scene", "backend", "grid", "force model", "xi (N m)", "class", "t reached (s)", "folds", "fold width (m)",
-         "fold width (h)", "narrowest, late (h)", "narrowest, ever (h)", "lambda (m)", "bending length (m)",
+         "fold width (h)", "narrowest, late (h)", "narrowest, ever (h)", f"snapshots < {NARROWEST:g} h",
+         "there from a1 (m)", "to a1 (m)", "lambda (m)", "bending length (m)",
          "lambda / bending length", "depth (m)"), rows,
         note=f"The shipped scenes (deformable.scenes) with xi and the force model changed, {s['s5_t']:g} s (the rod "
              f"drawn over {scenes.config('curtain').draw_time:g} s). Folds: extrema of y along rows at "
@@ -229,7 +242,8 @@ def measure(res, R: dict, s: dict) -> list:
              "validation.studies.paper.folds); medians over the rows and over the snapshots of the last "
              f"{LATE:g} s. lambda = 2 x fold width; bending length = (D H / (mu g))^(1/4) "
              "(deformable.scenes.fold_wavelength, Cerda & Mahadevan 2003), D = 2 xi (variational) or xi (tpbf87); "
-             "'narrowest, ever': over every snapshot (each 0.1 s) of the run; h: the grid spacing along a1."))
+             "'narrowest, ever': over every snapshot (each 0.1 s) of the run, and where those narrower than "
+             f"{NARROWEST:g} h sit along a1 (the rod is drawn from a1 = L1); h: the grid spacing along a1."))
     series_rows = [(k[1], k[2].upper(), k[3], k[4], p["t"], p["count"], p["width"] / R[k]["h"],
                     p["narrowest"] / R[k]["h"], p["ptp"]) for k in keys for p in F[k]["series"]]
     res.tables.append(Table("folds_over_time", "Section 5: the folds over time (every 0.1 s)",
@@ -260,7 +274,9 @@ def measure(res, R: dict, s: dict) -> list:
                   len(xis) >= 3 and np.isfinite(p) and lo <= p <= hi)
     res.check_all(f"section 5, curtain folds: never narrower than {NARROWEST:g} grid spacings",
                   f"in every snapshot (each {SAMPLE_EVERY:g} s) and row, consecutive extrema at least {NARROWEST:g} h "
-                  "apart", {f"{k[1]} {k[2].upper()} xi = {k[4]:g} ({F[k]['ever_narrowest_h']:.1f} h)":
+                  "apart", {f"{k[1]} {k[2].upper()} xi = {k[4]:g} ({F[k]['ever_narrowest_h']:.1f} h; below "
+                            f"{NARROWEST:g} h in {F[k]['below']} of {len(F[k]['series'])} snapshots, at a1 = "
+                            f"{F[k]['below_at'][0]:.2f} to {F[k]['below_at'][1]:.2f} m)":
                             F[k]["ever_narrowest_h"] >= NARROWEST for k in var})
     agree = {}
     for k in var:
