@@ -38,7 +38,8 @@ PAPER = {
     "curtain": _PAPER_CURTAIN,
     "curtain-silky": dict(_PAPER_CURTAIN, eta=100.0, dt=2e-3),
     "paper": dict(_PAPER_CURTAIN, eta=100.0, xi=3e-6, dt=2e-3),
-    "flag": dict(force_model="tpbf87", shear=0.0, xi=0.0, dt=1e-3),
+    # the swing at 4 Hz, as these claims were first measured (the shipped flag swings at 6 Hz since issue 13)
+    "flag": dict(force_model="tpbf87", shear=0.0, xi=0.0, dt=1e-3, frequency=4.0),
 }
 
 

@@ -2,7 +2,7 @@ r"""The flag (section 5, Figs 7-8): does it wave, and which way do its waves tra
 
 The paper's flag is driven by "a coil force on one side"; the shipped scene
 (:func:`deformable.scenes.flag`) pins the pole edge a1 = 0, pulls the two free
-corners with coils towards anchors that swing across the flag at f = 4 Hz, and
+corners with coils towards anchors that swing across the flag at f = 6 Hz, and
 blows wind along it. A flag *waves* when the motion across it, y, is a
 travelling wave: the phase of its driving-frequency component changes along
 the flag. A flag that only flaps moves in phase everywhere.
