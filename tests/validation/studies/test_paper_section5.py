@@ -179,3 +179,15 @@ def test_media_refuses_bad_input_in_one_line_and_writes_nothing(argv, message, t
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_flag_run_that_stopped_early_has_no_phase_and_does_not_stop_the_report():
+    a = np.linspace(0.0, 1.2, 9)
+    t = np.arange(0.0, 0.065, 5e-3)
+    stopped = dict(status="diverged", t=0.065, line_t=t, line=np.zeros((t.size, a.size)), a=a,
+                   config=dict(ramp=0.5, frequency=4.0))
+    assert flag.run_phase(stopped, 2.0) is None
+    t = np.arange(0.0, 2.0 + 1e-9, 5e-3)
+    done = dict(stopped, status="finished", t=2.0, line_t=t,
+                line=np.sin(math.pi * a / 2.4) * np.cos(8 * math.pi * t[:, None] + 2.0 * a))
+    assert abs(flag.run_phase(done, 2.0).change + 2.0 * (a[-1] - a[1])) < 1e-6  # the point at the pole is left out

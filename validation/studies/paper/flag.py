@@ -98,12 +98,15 @@ def window(t_end: float, ramp: float, frequency: float, settle: float = 0.5) -> 
     return t_end - periods / frequency, t_end
 
 
-def run_phase(r: dict) -> PhaseProfile | None:
-    """The phase profile of a recorded flag run over its window; None when the run stopped before it ended."""
-    cfg = r["config"]
-    lo, hi = window(r["t_end"] if "t_end" in r else r["t"], cfg["ramp"], cfg["frequency"])
+def run_phase(r: dict, t_end: float) -> PhaseProfile | None:
+    """The phase profile of a recorded flag run over the window of a run to ``t_end`` (s); None when the run
+    stopped before it ended (diverged or stalled: no window to fit)."""
     t = np.asarray(r["line_t"])
-    if r["status"] != "finished" or t.size == 0 or t[-1] < hi - 1e-9:
+    if r["status"] != "finished" or t.size == 0:
+        return None
+    cfg = r["config"]
+    lo, hi = window(t_end, cfg["ramp"], cfg["frequency"])
+    if t[-1] < hi - 1e-9:
         return None
     sel = (t >= lo - 1e-9) & (t <= hi + 1e-9)
     return phase_along(r["a"], t[sel], np.asarray(r["line"])[sel], cfg["frequency"])
@@ -129,13 +132,13 @@ def measure(res, R: dict, s: dict) -> list:
     for b in BACKENDS:
         for fm in ("variational", "tpbf87"):
             r = R[("flag", b, fm)]
-            p = P[(b, fm)] = run_phase(r)
+            p = P[(b, fm)] = run_phase(r, s["s5_t"])
             grid = f"{n[b]}x{n[b]} nodes" if b == "fd" else f"{n[b] - 1}x{n[b] - 1} el."
             rows.append((b.upper(), grid, fm, classify(r), r["t"],
                          p.change if p else math.nan, p.speed if p else math.nan, p.direction if p else "not measured",
                          float(np.nanmax(p.amplitude)) if p else math.nan))
     cfg = R[("flag", "fd", "variational")]["config"]
-    lo, hi = window(R[("flag", "fd", "variational")]["t"], cfg["ramp"], cfg["frequency"])
+    lo, hi = window(s["s5_t"], cfg["ramp"], cfg["frequency"])
     res.tables.append(Table(
         "flag", "Section 5 (Figs 7-8): the flag's wave, phase of the driving component along the middle row",
         ("backend", "grid", "force model", "class", "t reached (s)", "phase change pole to tip (rad)",
