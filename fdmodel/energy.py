@@ -17,10 +17,13 @@ validity mask and, for the control-area weighting, the trapezoidal share).
 
 - The diagonal terms stand at the nodes. D1+ r is centred at the edge midpoint
   (m + 1/2, n), so G11 is the midpoint rule along a1 (and the row weights the
-  trapezoidal rule across); D11 r is centred at the node, and so is the normal
-  n = t1 x t2 / |t1 x t2| with *central* tangents t_i (one-sided on the edge
-  rows of a free edge, where the rows carry half a cell; the clamp's own
-  tangent at a clamped edge, :mod:`fdmodel.clamp`).
+  trapezoidal rule across); D11 r is centred at the node; the normal is eq.
+  (19)'s, of forward tangents (backward on the last row; the clamp's own
+  tangent at a clamped edge, :mod:`fdmodel.clamp`). Central tangents would
+  centre it too, but they decouple alternate rows: measured on the drawn
+  curtain, its Newton matrix turned indefinite next to the drawn corner
+  (one negative eigenvalue, a mode of rows m - 1 and m + 1) and the run
+  diverged at 0.9 s (docs/design.md).
 - The shear and twist terms stand at the cell centres (m + 1/2, n + 1/2),
   where D12+ is centred: G12 = a1 . a2 with the cell's mean tangents
   a1 = (D1+ r[m, n] + D1+ r[m, n + 1]) / 2, a2 likewise, and B12 with the

@@ -71,7 +71,7 @@ from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weight
 
 from .clamp import GhostRows
 from .energy import DiscreteEnergy, SlotMap
-from .operators import cell_tangents, central_tangents, node_tensors, operators, tangents, valid_rows
+from .operators import cell_tangents, node_tensors, operators, tangents, valid_rows
 from .strength import StrengthMatrix
 
 __all__ = ["MEMBRANE_EIGENVALUE", "WEIGHTINGS", "FDModel"]
@@ -186,7 +186,8 @@ class FDModel:
         """
         M, N, sheet, rw = self.M, self.N, self.scene.sheet, self.row_weight
         zero = np.zeros((M, N))
-        ops, T = self.ghost.operators(self.ops, central_tangents(M, N, self.h1, self.h2))
+        # the normal of B11, B22: eq. (19)'s forward tangents; central ones were measured and dropped (docs/design.md)
+        ops, T = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2))
         names = ("D1", "D2", "T1", "T2", "D11", "D12", "D22")
         rows = [ops["D1"], ops["D2"], T[0], T[1], ops["D11"], ops["D12"], ops["D22"]]
         offset = (lambda surface: self.ghost.offset(surface, names)) if self.ghost else (lambda surface: None)
@@ -214,7 +215,7 @@ class FDModel:
         """G and B of the variational energy, each at its centre, carried to the nodes (second order).
 
         G11 (D1+ r . D1+ r) stands at the edge midpoints (m + 1/2, n), G22 at (m, n + 1/2), G12 and B12 at
-        the cell centres, B11 and B22 (central normal) at the interior nodes: the mean of the two (four)
+        the cell centres, B11 and B22 (the normal of eq. 19) at the interior nodes: the mean of the two (four)
         neighbouring centres at a node, linear extrapolation from the nearest two onto the edges.
         """
         Gn, Bn = self._node_slots.tensors(X)

@@ -17,9 +17,10 @@ functions (:func:`node_derivatives`, :func:`node_tensors`) give values at
 *every* node for reporting G and B, with one-sided differences where the rule
 would give zero. The tangents of the normal (:func:`tangents`) are forward
 differences, backward on the last row (docs/design.md: the normal at a node
-is a documented choice); the energy-consistent model's normal takes central
-ones (:func:`central_tangents`), and its shear terms the mean tangents of a
-cell (:func:`cell_tangents`), where they are centred (:mod:`fdmodel.energy`).
+is a documented choice), for both force models; central ones
+(:func:`central_tangents`) were measured for the energy-consistent model and
+dropped (docs/design.md); its shear terms take the mean tangents of a cell
+(:func:`cell_tangents`), where they are centred (:mod:`fdmodel.energy`).
 """
 
 from __future__ import annotations

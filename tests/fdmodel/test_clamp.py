@@ -79,9 +79,13 @@ def test_a_clamped_rest_state_carries_no_force():
 
 
 @pytest.mark.parametrize("surface", ["monge", "torus", "skew"])
-def test_the_variational_models_g_and_b_are_second_order_at_every_node(surface):
+def test_the_variational_models_g_is_second_order_and_b_first_order_at_every_node(surface):
     """FD's G and B of the energy-consistent model: each term at its stencil's centre, carried to the nodes
-    (mean inside, linear extrapolation onto the edges): order 2 in the max over all nodes."""
+    (mean inside, linear extrapolation onto the edges). G is second order in the max over all nodes; B11 and
+    B22 take eq. (19)'s normal of forward tangents, an O(h) normal, so B is at least first order: its error
+    is the normal's tangential error times the tangential part of r_11, which is small on some surfaces
+    (monge and skew show 1.9 over these levels, the torus 1.0). The central normal would make it second
+    order everywhere and was dropped (docs/design.md)."""
     s = get(surface)
     hs, eg, eb = [], [], []
     for n in (9, 17, 33):
@@ -92,7 +96,8 @@ def test_the_variational_models_g_and_b_are_second_order_at_every_node(surface):
         hs.append(model.spacing[0])
         eg.append(np.max(np.abs(G - s.G(a1, a2))))
         eb.append(np.max(np.abs(B - s.B(a1, a2))))
-    for name, e in (("G", eg), ("B", eb)):
+    for name, e, low, high in (("G", eg, 1.7, 2.5), ("B", eb, 0.7, 2.5)):
         p = fit_order(hs, e)
-        assert 1.7 <= p <= 2.5, f"{surface} {name}: observed order {p:.2f}, theory 2; errors {e}"
-        assert e[-1] < 50 * hs[-1] ** 2
+        theory = round(low + 0.3)
+        assert low <= p <= high, f"{surface} {name}: observed order {p:.2f}, theory {theory}; errors {e}"
+        assert e[-1] < 50 * hs[-1] ** theory
