@@ -3,25 +3,44 @@
 import re
 from pathlib import Path
 
-import pytest
-
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
-def library_example() -> str:
-    section = README.read_text().split("## Library example", 1)[1]
-    return re.search(r"```python\n(.*?)```", section, re.S).group(1)
+def library_examples() -> list[str]:
+    """The python blocks of the README's library example section: FD, then FE on the same scene."""
+    section = README.read_text().split("## Library example", 1)[1].split("\n## ", 1)[0]
+    return re.findall(r"```python\n(.*?)```", section, re.S)
 
 
-@pytest.mark.parametrize("backend", ["FDModel", "FEModel"])
-def test_readme_library_example_runs_on_both_backends(backend, capsys):
-    code = library_example()
-    assert len([line for line in code.splitlines() if line.strip()]) <= 9
-    if backend == "FEModel":  # "FEModel(scene) from femodel is a drop-in replacement for FDModel(scene)"
-        code = code.replace("from fdmodel import FDModel", "from femodel import FEModel").replace("FDModel(", "FEModel(")
-    exec(compile(code, "README.md", "exec"), {})
+def test_readme_library_examples_run_as_printed_on_both_backends(capsys):
+    fd, fe = library_examples()
+    assert len([line for line in fd.splitlines() if line.strip()]) <= 9
+    namespace = {}
+    exec(compile(fd, "README.md (FD)", "exec"), namespace)
     out = capsys.readouterr().out
     assert "steps to t = 1 s" in out and "Energy(stretching=" in out
+    assert "FEModel" in fe and "FDModel" not in fe
+    exec(compile(fe, "README.md (FE)", "exec"), namespace)  # the FE block uses the FD block's scene
+    out = capsys.readouterr().out
+    assert "steps to t = 1 s" in out and "Energy(stretching=" in out
+    assert type(namespace["model"]).__name__ == "FEModel"
+
+
+def test_the_output_api_of_the_readme_writes_a_series_into_a_new_folder(tmp_path):
+    import numpy as np
+
+    import deformable as dm
+    from fdmodel import FDModel
+
+    scene = dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(5, 5)), dm.Material(mu=0.1, gamma=0.05, eta=np.full((2, 2), 50.0), xi=np.full((2, 2), 1e-3)),
+                     forces=[dm.Gravity()], constraints=[dm.Pin(["top-left", "top-right"])], force_model="variational")
+    model = FDModel(scene)
+    writer = dm.XDMFWriter(tmp_path / "out" / "cloth.xdmf", interval=0.02)
+    dm.TimeStepper(model, dt=0.01).run(model.initial_state(), t_end=0.1, trackers=[writer])
+    writer.close()
+    cells, frames = dm.read_series(tmp_path / "out" / "cloth.xdmf")
+    assert [t for t, *_ in frames] == [0.0, 0.02, 0.04, 0.06, 0.08, 0.1]  # exact frame times, in seconds
+    assert cells.shape == (16, 4) and frames[-1][1].shape == (25, 3)
 
 
 def test_readme_quick_start_has_two_commands():
