@@ -113,7 +113,10 @@ def run_case(case: Case) -> dict:
         return {"h": model.spacing[0], "max_K": float(abs(K).max()) if K.nnz else 0.0}
     # shift-invert Lanczos (sparse LU, single-threaded): dense eigh was measured 50x slower on a loaded
     # 2-core machine through BLAS thread oversubscription
-    w2 = np.sort(spla.eigsh(K.tocsc(), k=MODES, M=M.tocsc(), sigma=0.0, which="LM", return_eigenvectors=False))
+    # a fixed start vector: ARPACK's random one changes the last digits from run to run
+    v0 = np.full(K.shape[0], 1.0 / np.sqrt(K.shape[0]))
+    w2 = np.sort(spla.eigsh(K.tocsc(), k=MODES, M=M.tocsc(), sigma=0.0, which="LM", return_eigenvectors=False,
+                            v0=v0))
     return {"h": model.spacing[0], "w": np.sqrt(np.abs(w2)).tolist()}
 
 
