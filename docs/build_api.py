@@ -6,8 +6,10 @@ numpy-style docstrings, LaTeX math; pdoc (``pip install ".[docs]"``).
 
 from __future__ import annotations
 
+import contextlib
 import pkgutil
 import sys
+import tempfile
 from pathlib import Path
 
 PACKAGES = ("deformable", "fdmodel", "femodel", "validation")
@@ -44,8 +46,12 @@ def build(out) -> Path:
     import pdoc.render
 
     pdoc.render.configure(docformat="numpy", math=True)
-    pdoc.pdoc(*specs(), output_directory=Path(out))
-    return Path(out) / "index.html"
+    out = Path(out).resolve()
+    names = specs()
+    # away from the source tree: pdoc asks whether "deformable" means the folder here or the imported package
+    with contextlib.chdir(tempfile.gettempdir()):
+        pdoc.pdoc(*names, output_directory=out)
+    return out / "index.html"
 
 
 if __name__ == "__main__":
