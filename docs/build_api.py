@@ -47,10 +47,9 @@ def build(out) -> Path:
 
     pdoc.render.configure(docformat="numpy", math=True)
     out = Path(out).resolve()
-    names = specs()
     # away from the source tree: pdoc asks whether "deformable" means the folder here or the imported package
     with contextlib.chdir(tempfile.gettempdir()):
-        pdoc.pdoc(*names, output_directory=out)
+        pdoc.pdoc(*specs(), output_directory=out)
     return out / "index.html"
 
 
