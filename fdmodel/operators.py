@@ -17,9 +17,9 @@ functions (:func:`node_derivatives`, :func:`node_tensors`) give values at
 *every* node for reporting G and B, with one-sided differences where the rule
 would give zero. The tangents of the normal (:func:`tangents`) are forward
 differences, backward on the last row (docs/design.md: the normal at a node
-is a documented choice), for both force models; central ones
-(:func:`central_tangents`) were measured for the energy-consistent model and
-dropped (docs/design.md); its shear terms take the mean tangents of a cell
+is a documented choice), for both force models; central ones were measured
+for the energy-consistent model and dropped (docs/design.md); its shear
+terms take the mean tangents of a cell
 (:func:`cell_tangents`), where they are centred (:mod:`fdmodel.energy`).
 """
 
@@ -30,7 +30,7 @@ import scipy.sparse as sp
 
 from deformable import tensors
 
-__all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "central_tangents", "cell_tangents",
+__all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "cell_tangents",
            "node_derivatives", "node_tensors", "valid_rows"]
 
 
@@ -69,26 +69,11 @@ def tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.cs
     return sp.kron(tangent_1d(M, h1), I2, format="csr"), sp.kron(I1, tangent_1d(N, h2), format="csr")
 
 
-def _central_1d(n: int, h: float) -> sp.csr_matrix:
-    """(n, n) central first difference, forward on the first row and backward on the last."""
-    lower, upper = np.full(n - 1, -0.5 / h), np.full(n - 1, 0.5 / h)
-    main = np.zeros(n)
-    main[0], upper[0] = -1.0 / h, 1.0 / h
-    main[-1], lower[-1] = 1.0 / h, -1.0 / h
-    return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
-
-
 def _mean_1d(n: int) -> sp.csr_matrix:
     """(n, n) mean of a node and the next, last row zero."""
     main, upper = np.full(n, 0.5), np.full(n - 1, 0.5)
     main[-1] = 0.0
     return sp.diags([main, upper], [0, 1], shape=(n, n), format="csr")
-
-
-def central_tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """Tangents at the nodes (MN, MN): central differences, one-sided on the first and last rows."""
-    I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
-    return sp.kron(_central_1d(M, h1), I2, format="csr"), sp.kron(I1, _central_1d(N, h2), format="csr")
 
 
 def cell_tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
