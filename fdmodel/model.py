@@ -200,8 +200,20 @@ class FDModel:
         beyond[0, outside, 0] = beyond[1, outside, 1] = 1.0
         self._cell_slots = SlotMap([A1, A2, Z, ops["D12"], Z], (M, N), FE_SLOTS, beyond)
         shear = np.array([[zero, rw["D12"]], [rw["D12"], zero]])
-        parts = [(self._node_slots, offset(sheet.rest), np.array([[rw["D1"], zero], [zero, rw["D2"]]]),
-                  np.array([[rw["D11"], zero], [zero, rw["D22"]]]))]
+        bend = np.array([[rw["D11"], zero], [zero, rw["D22"]]])
+        # the variational model splits B11, B22 into halves with the normals of forward and of backward tangents,
+        # whose O(h) errors are opposite: their squares sum to a second-order density (fdmodel.energy)
+        self._backward_slots = None
+        if self.scene.force_model == "variational":
+            bops, Tb = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2, backward=True))
+            bnames = ("T1", "T2", "D11", "D12", "D22")
+            boffset = (lambda surface: self.ghost.offset(surface, bnames)) if self.ghost else (lambda surface: None)
+            self._backward_slots = SlotMap([Tb[0], Tb[1], bops["D11"], Z, bops["D22"]], (M, N), FE_SLOTS,
+                                           boffset(sheet.initial))
+            bend = 0.5 * bend
+        parts = [(self._node_slots, offset(sheet.rest), np.array([[rw["D1"], zero], [zero, rw["D2"]]]), bend)]
+        if self._backward_slots is not None:
+            parts.append((self._backward_slots, boffset(sheet.rest), np.zeros((2, 2, M, N)), bend))
         if np.any(self.eta[0, 1] + self.eta[1, 0] != 0) or np.any(self.xi[0, 1] + self.xi[1, 0] != 0):
             parts.append((self._cell_slots, None, shear, shear))
         X_rest = self.discretize(sheet.rest)
@@ -220,6 +232,7 @@ class FDModel:
         """
         Gn, Bn = self._node_slots.tensors(X)
         Gc, Bc = self._cell_slots.tensors(X)
+        Bn = 0.5 * (Bn + self._backward_slots.tensors(X)[1])  # B11, B22 of forward and backward normals
         P1, P2 = _to_nodes(self.M), _to_nodes(self.N)
         E1, E2 = _extend(self.M), _extend(self.N)
         G12 = P1 @ Gc[0, 1, :-1, :-1] @ P2.T

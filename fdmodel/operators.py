@@ -53,20 +53,29 @@ def central2_1d(n: int, h: float) -> sp.csr_matrix:
     return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
 
 
-def tangent_1d(n: int, h: float) -> sp.csr_matrix:
-    """(n, n) forward difference with the backward one on the last row (the tangents of the normal)."""
+def tangent_1d(n: int, h: float, backward: bool = False) -> sp.csr_matrix:
+    """(n, n) forward difference with the backward one on the last row (the tangents of the normal).
+
+    ``backward=True``: the mirror image, backward difference with the forward one on the first row.
+    """
     main = np.full(n, -1.0 / h)
     upper = np.full(n - 1, 1.0 / h)
     lower = np.zeros(n - 1)
     main[-1] = 1.0 / h
     lower[-1] = -1.0 / h
+    if backward:  # the reversal J A J of the forward operator, negated: row k of it is row n - 1 - k mirrored
+        return -sp.diags([upper[::-1], main[::-1], lower[::-1]], [-1, 0, 1], shape=(n, n), format="csr")
     return sp.diags([lower, main, upper], [-1, 0, 1], shape=(n, n), format="csr")
 
 
-def tangents(M: int, N: int, h1: float, h2: float) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """The sparse tangent operators T1, T2 (MN, MN): r_1, r_2 at every node as in :func:`node_derivatives`."""
+def tangents(M: int, N: int, h1: float, h2: float, backward: bool = False) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The sparse tangent operators T1, T2 (MN, MN): r_1, r_2 at every node as in :func:`node_derivatives`.
+
+    ``backward=True``: backward differences, forward on the first row (:func:`tangent_1d`).
+    """
     I1, I2 = sp.identity(M, format="csr"), sp.identity(N, format="csr")
-    return sp.kron(tangent_1d(M, h1), I2, format="csr"), sp.kron(I1, tangent_1d(N, h2), format="csr")
+    return (sp.kron(tangent_1d(M, h1, backward), I2, format="csr"),
+            sp.kron(I1, tangent_1d(N, h2, backward), format="csr"))
 
 
 def _mean_1d(n: int) -> sp.csr_matrix:

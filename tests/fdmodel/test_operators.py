@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from fdmodel.operators import node_derivatives, operators, valid_rows
+from fdmodel.operators import node_derivatives, operators, tangent_1d, valid_rows
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
 from validation.harness.surfaces import get
@@ -175,3 +175,13 @@ def test_observed_orders_on_generic_monge_patch(case, monge_levels):
     assert lo <= p <= hi, f"{case.name}: observed order {p:.3f}, theory {case.order}, errors {errors}"
     # the derivatives of the patch are O(3^k): the leading error constant is O(10) at most
     assert errors[-1] < 10 * hs[-1] ** case.order, f"{case.name}: finest error {errors[-1]:.3e}"
+
+
+def test_backward_tangents_mirror_the_forward_ones():
+    """The backward tangent operator (forward on the first row) is the forward one (backward on the last row)
+    read from the other end of the row, with the sign of the reversed direction."""
+    F, B = tangent_1d(6, 0.3).toarray(), tangent_1d(6, 0.3, backward=True).toarray()
+    assert np.array_equal(B, -F[::-1, ::-1])
+    u = np.arange(6.0) ** 2 * 0.09  # (0.3 k)^2: backward differences (2 a - h) inside, forward on the first row
+    a = 0.3 * np.arange(6)
+    assert np.allclose((B @ u)[1:], 2 * a[1:] - 0.3) and np.isclose((B @ u)[0], 0.3)
