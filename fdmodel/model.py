@@ -38,9 +38,10 @@ ghost's affine term.
 G and B. For tpbf87 and frozen, :meth:`FDModel.tensors` gives the paper's
 eq. (18)-(19) at the nodes (what alpha, beta and K use). For the variational
 model it gives those of its energy (:mod:`fdmodel.energy`: each term at the
-point where its stencil is centred), carried to the nodes: second order at
-every node, where eq. (18)-(19) are first order (G11 = D1+ r . D1+ r stands at
-(m + 1/2, n)).
+point where its stencil is centred, B11 and B22 the mean of the halves with
+the normals of forward and of backward tangents), carried to the nodes: second
+order at every node, where eq. (18)-(19) are first order (G11 = D1+ r . D1+ r
+stands at (m + 1/2, n); the normal of forward tangents is O(h)).
 
 The strength matrix is :mod:`fdmodel.strength` (fixed-pattern assembly), the
 energy (13) with its derivatives :mod:`fdmodel.energy`.
@@ -182,11 +183,13 @@ class FDModel:
     def _discrete_energy(self, area: float) -> DiscreteEnergy:
         """Eq. (13) as node and cell parts (:mod:`fdmodel.energy`), rest tensors from the rest shape's own slots.
 
-        Keeps the two slot maps (``_node_slots``, ``_cell_slots``) for :meth:`tensors` of the variational model.
+        Keeps the slot maps (``_node_slots``, ``_cell_slots`` and, for the variational model, ``_backward_slots``,
+        the bending half with the normal of backward tangents) for :meth:`tensors` of the variational model.
         """
         M, N, sheet, rw = self.M, self.N, self.scene.sheet, self.row_weight
         zero = np.zeros((M, N))
-        # the normal of B11, B22: eq. (19)'s forward tangents; central ones were measured and dropped (docs/design.md)
+        # the normal of B11, B22: eq. (19)'s forward tangents (the variational model adds a backward half below);
+        # central ones were measured and dropped (docs/design.md)
         ops, T = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2))
         names = ("D1", "D2", "T1", "T2", "D11", "D12", "D22")
         rows = [ops["D1"], ops["D2"], T[0], T[1], ops["D11"], ops["D12"], ops["D22"]]
@@ -227,8 +230,9 @@ class FDModel:
         """G and B of the variational energy, each at its centre, carried to the nodes (second order).
 
         G11 (D1+ r . D1+ r) stands at the edge midpoints (m + 1/2, n), G22 at (m, n + 1/2), G12 and B12 at
-        the cell centres, B11 and B22 (the normal of eq. 19) at the interior nodes: the mean of the two (four)
-        neighbouring centres at a node, linear extrapolation from the nearest two onto the edges.
+        the cell centres, B11 and B22 at the interior nodes (the mean of the two halves, with the normals of
+        forward and of backward tangents): the mean of the two (four) neighbouring centres at a node, linear
+        extrapolation from the nearest two onto the edges.
         """
         Gn, Bn = self._node_slots.tensors(X)
         Gc, Bc = self._cell_slots.tensors(X)

@@ -17,9 +17,10 @@ functions (:func:`node_derivatives`, :func:`node_tensors`) give values at
 *every* node for reporting G and B, with one-sided differences where the rule
 would give zero. The tangents of the normal (:func:`tangents`) are forward
 differences, backward on the last row (docs/design.md: the normal at a node
-is a documented choice), for both force models; central ones were measured
-for the energy-consistent model and dropped (docs/design.md); its shear
-terms take the mean tangents of a cell
+is a documented choice), for both force models; the energy-consistent model
+adds a bending half with backward tangents, forward on the first row
+(``tangents(..., backward=True)``; central ones were measured and dropped,
+docs/design.md); its shear terms take the mean tangents of a cell
 (:func:`cell_tangents`), where they are centred (:mod:`fdmodel.energy`).
 """
 
