@@ -45,9 +45,9 @@ each point's whole exact Hessian onto its positive part by an eigen-
 decomposition (Teran et al. 2005; the projected Newton of Li et al. 2020):
 dearer, kept for comparison.
 
-The Hessians are computed by the compiled kernels of :mod:`deformable.kernels`
-(one loop body per point, projected onto the elements and summed there in the
-same pass); energy and gradient are numpy.
+Gradients and Hessians are computed by the compiled kernels of
+:mod:`deformable.kernels` (one loop body per point, and the projection onto the
+elements); G, B and the energy are numpy.
 
 Layout: points first; slot vectors ``v`` are (P, S, 3); gradients (P, S, 3);
 Hessians (P, S, 3, S, 3) with index (slot, coordinate).
@@ -75,16 +75,6 @@ _BEND = ("v11", "v22", "v12")
 _BLOCK = 512
 
 
-def _residuals(v: np.ndarray, slots: dict, curvature: bool):
-    """(G11, G22, G12) and (B11, B22, B12), each (3, P), and the frame (n, |t1 x t2|); None without curvature."""
-    d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
-    G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
-    if not curvature:
-        return G, None, None
-    n, area = tensors.frame(v[:, slots["t1"]], v[:, slots["t2"]])
-    return G, np.stack([tensors.dot(n, v[:, slots[k]]) for k in _BEND]), (n, area)
-
-
 def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     """G (eq. 4) and B (eq. 8) from slot vectors (P, S, 3): (2, 2, P) each.
 
@@ -92,7 +82,12 @@ def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np
     their rest tensors from here, with the arithmetic of the energy itself, so
     that the rest state has residuals exactly zero.
     """
-    G, B, _ = _residuals(v, slots, curvature)
+    d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
+    G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
+    B = None
+    if curvature:
+        n, _ = tensors.frame(v[:, slots["t1"]], v[:, slots["t2"]])
+        B = np.stack([tensors.dot(n, v[:, slots[k]]) for k in _BEND])
     sym = lambda T: np.array([[T[0], T[2]], [T[2], T[1]]])  # noqa: E731
     return sym(G), None if B is None else sym(B)
 
@@ -133,49 +128,17 @@ class Integrand:
         self.r0 = np.ascontiguousarray(np.concatenate([self.f0, self.g0]))
 
     # -- energy -----------------------------------------------------------------------
-    def residuals(self, v: np.ndarray):
-        """Metric (G11, G22, G12) and curvature (B11, B22, B12), each (3, P), and the frame (n, |c|) or None."""
-        return _residuals(v, self.slots, self.bending)
-
     def energy(self, v: np.ndarray) -> Energy:
         """Eq. (13) summed over the points: (stretching, bending) (J)."""
         G, B = slot_tensors(v, self.slots, curvature=self.bending)
         stretching, bending = energy_density(self.eta, self.xi, G, self.G0, B, self.B0)
         return Energy(float(stretching.sum()), float(bending.sum()))
 
-    def _forces(self, v, sl):
-        G, B, frame = self.residuals(v)
-        f = 2 * self.cS[:, sl] * G - self.f0[:, sl]
-        g = None if B is None else 2 * self.cB[:, sl] * B - self.g0[:, sl]
-        return f, g, frame
-
     # -- derivatives ------------------------------------------------------------------
-    def jacobian(self, v: np.ndarray, frame=None) -> np.ndarray:
-        """Jacobian of the six residuals in the slots, (P, 6, S, 3) (the bending rows zero without bending)."""
-        P, s = v.shape[0], self.slots
-        J = np.zeros((P, 6, self.S, 3))
-        d1, d2 = v[:, s["d1"]], v[:, s["d2"]]
-        J[:, 0, s["d1"]] += 2 * d1
-        J[:, 1, s["d2"]] += 2 * d2
-        J[:, 2, s["d1"]] += d2
-        J[:, 2, s["d2"]] += d1
-        if frame is not None:
-            n, area = frame
-            t1, t2 = v[:, s["t1"]], v[:, s["t2"]]
-            for res, name in enumerate(_BEND):
-                vk = v[:, s[name]]
-                w = (vk - tensors.dot(vk, n)[:, None] * n) / area[:, None]
-                J[:, 3 + res, s["t1"]] += tensors.cross(t2, w)
-                J[:, 3 + res, s["t2"]] += tensors.cross(w, t1)
-                J[:, 3 + res, s[name]] += n
-        return J
-
     def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
-        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors)."""
-        f, g, frame = self._forces(v, sl)
-        J = self.jacobian(v, frame)
-        dres = np.concatenate([f, g if g is not None else np.zeros_like(f)]).T  # (P, 6)
-        return np.einsum("pr,prsa->psa", dres, J)
+        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors): ``sum_r F_r J_r`` (compiled)."""
+        _, sl_, bend, c, r0, _, bending = self._kernel_args(v, "newton", sl)
+        return kernels.point_gradients(np.ascontiguousarray(v, float), sl_, bend, c, r0, bending)
 
     def _kernel_args(self, v, kind, sl):
         if kind not in HESSIANS:

@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["KINDS", "point_hessians", "element_upper", "positive_part", "scatter_upper"]
+__all__ = ["KINDS", "point_gradients", "point_hessians", "element_upper", "positive_part", "scatter_upper"]
 
 #: Hessian kind name -> the kernels' code
 KINDS = {"newton": 0, "gauss-newton": 1, "definite": 2, "projected": 3}
@@ -78,15 +78,14 @@ def _skew_into(a, M, r0, c0, sign):
 
 
 @njit(cache=True)
-def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q):
-    """The Hessian of one point into H (3S, 3S), index 3 slot + coordinate; the rest are scratch arrays."""
+def _jacobian(v, sl, bend, c, r0, bending, J, F, sc):
+    """Residual forces F (6,) and the Jacobian J (6, 3S) of the residuals in the slots at one point.
+
+    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0].
+    """
     S = v.shape[0]
-    n3 = 3 * S
-    for i in range(n3):
-        for j in range(n3):
-            H[i, j] = 0.0
     for r in range(6):
-        for i in range(n3):
+        for i in range(3 * S):
             J[r, i] = 0.0
     i1, i2 = sl[0], sl[1]
     G11 = v[i1, 0] * v[i1, 0] + v[i1, 1] * v[i1, 1] + v[i1, 2] * v[i1, 2]
@@ -100,29 +99,42 @@ def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt,
         J[1, 3 * i2 + a] += 2.0 * v[i2, a]
         J[2, 3 * i1 + a] += v[i2, a]
         J[2, 3 * i2 + a] += v[i1, a]
-    nres = 3
-    area = 1.0
+    if not bending:
+        F[3] = F[4] = F[5] = 0.0
+        return 3, 1.0
     it1, it2 = sl[2], sl[3]
     n, w, t = sc[0], sc[1], sc[2]
-    if bending:
-        _cross(v[it1], v[it2], n)
-        area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    _cross(v[it1], v[it2], n)
+    area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    for a in range(3):
+        n[a] /= area
+    for k in range(3):
+        ik = bend[k]
+        Bk = n[0] * v[ik, 0] + n[1] * v[ik, 1] + n[2] * v[ik, 2]
+        F[3 + k] = 2.0 * c[3 + k] * Bk - r0[3 + k]
         for a in range(3):
-            n[a] /= area
-        for k in range(3):
-            ik = bend[k]
-            Bk = n[0] * v[ik, 0] + n[1] * v[ik, 1] + n[2] * v[ik, 2]
-            F[3 + k] = 2.0 * c[3 + k] * Bk - r0[3 + k]
-            for a in range(3):
-                w[a] = (v[ik, a] - Bk * n[a]) / area
-            _cross(v[it2], w, t)
-            for a in range(3):
-                J[3 + k, 3 * it1 + a] += t[a]
-            _cross(w, v[it1], t)
-            for a in range(3):
-                J[3 + k, 3 * it2 + a] += t[a]
-                J[3 + k, 3 * ik + a] += n[a]
-        nres = 6
+            w[a] = (v[ik, a] - Bk * n[a]) / area
+        _cross(v[it2], w, t)
+        for a in range(3):
+            J[3 + k, 3 * it1 + a] += t[a]
+        _cross(w, v[it1], t)
+        for a in range(3):
+            J[3 + k, 3 * it2 + a] += t[a]
+            J[3 + k, 3 * ik + a] += n[a]
+    return 6, area
+
+
+@njit(cache=True)
+def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q):
+    """The Hessian of one point into H (3S, 3S), index 3 slot + coordinate; the rest are scratch arrays."""
+    S = v.shape[0]
+    n3 = 3 * S
+    for i in range(n3):
+        for j in range(n3):
+            H[i, j] = 0.0
+    nres, area = _jacobian(v, sl, bend, c, r0, bending, J, F, sc)
+    i1, i2, it1, it2 = sl[0], sl[1], sl[2], sl[3]
+    n = sc[0]
     # Gauss-Newton: sum_r 2 c_r J_r J_r^T over the slots each residual touches
     for r in range(nres):
         cr = 2.0 * c[r]
@@ -210,6 +222,22 @@ def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt,
 def _scratch(S):
     return (np.zeros((6, 3 * S)), np.zeros((3 * S, 3 * S)), np.zeros(6), np.zeros(S, np.int64), np.zeros((5, 3)),
             np.zeros((3, 6)), np.zeros((3, 3)), np.zeros((3, 6)), np.zeros((6, 6)), np.zeros((3, 6)))
+
+
+@njit(cache=True)
+def point_gradients(v, sl, bend, c, r0, bending):
+    """dW/d(slots) at every point, (P, S, 3): sum_r F_r J_r (arguments as :func:`point_hessians`)."""
+    P, S = v.shape[0], v.shape[1]
+    J, F, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros((5, 3))
+    out = np.zeros((P, S, 3))
+    for p in range(P):
+        nres, _ = _jacobian(v[p], sl, bend, c[:, p], r0[:, p], bending, J, F, sc)
+        g = out[p]
+        for r in range(nres):
+            for s in range(S):
+                for a in range(3):
+                    g[s, a] += F[r] * J[r, 3 * s + a]
+    return out
 
 
 @njit(cache=True)
