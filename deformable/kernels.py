@@ -1,4 +1,4 @@
-r"""Compiled kernels (numba) of the energy's Hessian: per point, and summed into element blocks.
+r"""Compiled kernels (numba) of the energy's gradient and Hessian: per point, and summed into element blocks.
 
 The Hessian of eq. (13)'s integrand is the most frequent large computation of
 the energy-consistent model (one per Newton iteration). Written with numpy it
@@ -27,7 +27,8 @@ B12), weights c (6,), and forces F = 2 c (s, b) - (f0, g0):
   an eigen-decomposition (Teran et al. 2005; Li et al. 2020),
   :func:`positive_part` (numpy: LAPACK's batched eigh, and no LAPACK to compile).
 
-Kinds are integers here: :data:`KINDS`.
+The gradient at a point is ``sum_r F_r J_r`` with the same Jacobian
+(:func:`point_gradients`). Kinds are integers here: :data:`KINDS`.
 """
 
 from __future__ import annotations
