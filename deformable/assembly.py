@@ -24,6 +24,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .kernels import scatter_upper
+
 __all__ = ["FixedPattern", "SymmetricElements", "ReducedSystem", "BlockPattern", "canonical", "element_vectors"]
 
 
@@ -105,8 +107,10 @@ class SymmetricElements:
     pattern : FixedPattern
     upper : (int array, int array)
         The local (l <= m) pairs, nl (nl + 1) / 2 of them.
+    first, second : int arrays (E, nupper)
+        Where each element's upper entry lands in the data array, and its mirror image (-1 on the diagonal).
     scatter : sparse (nnz, E nupper)
-        Sums the elements' upper triangles (and their mirror images) into the data array.
+        The same sum as a matrix (built on first use, for coefficient templates).
     """
 
     def __init__(self, ldofs: np.ndarray, ndof: int):
@@ -119,9 +123,23 @@ class SymmetricElements:
         off = lu != mu
         self.pattern = FixedPattern(np.concatenate([rows.ravel(), cols[:, off].ravel()]),
                                     np.concatenate([cols.ravel(), rows[:, off].ravel()]), (ndof, ndof))
-        src = np.arange(E * ne).reshape(E, ne)
-        src = np.concatenate([src.ravel(), src[:, off].ravel()])
-        self.scatter = sp.csr_matrix((np.ones(src.size), (self.pattern.slot, src)), shape=(self.pattern.nnz, E * ne))
+        slot = self.pattern.slot
+        self.first = slot[:E * ne].reshape(E, ne)  # where each element's upper entry lands ...
+        self.second = np.full((E, ne), -1, np.int64)  # ... and its mirror image (-1 on the diagonal)
+        self.second[:, off] = slot[E * ne:].reshape(E, -1)
+        self._scatter = None
+
+    @property
+    def scatter(self) -> sp.csr_matrix:
+        """(nnz, E nupper) 0/1 matrix summing the elements' upper triangles (and mirrors) into the data array."""
+        if self._scatter is None:
+            E, ne = self.first.shape
+            src = np.arange(E * ne).reshape(E, ne)
+            off = self.second >= 0
+            src = np.concatenate([src.ravel(), src[off].ravel()])
+            dst = np.concatenate([self.first.ravel(), self.second[off].ravel()])
+            self._scatter = sp.csr_matrix((np.ones(src.size), (dst, src)), shape=(self.pattern.nnz, E * ne))
+        return self._scatter
 
     @property
     def nnz(self) -> int:
@@ -149,8 +167,10 @@ class SymmetricElements:
         return self.scatter @ (coefficients @ templates).ravel()
 
     def collect(self, upper: np.ndarray) -> np.ndarray:
-        """Data array of the element matrices given by their upper triangles (E, nupper)."""
-        return self.scatter @ upper.ravel()
+        """Data array of the element matrices given by their upper triangles (E, nupper) (a compiled scatter)."""
+        data = np.zeros(self.pattern.nnz)
+        scatter_upper(np.ascontiguousarray(upper, float), self.first, self.second, data)
+        return data
 
     def matrix(self, data: np.ndarray) -> sp.csr_matrix:
         return self.pattern.matrix(data)

@@ -13,9 +13,14 @@ straight down from the disc's rim (a limp one).
 The shadow is the union of the projected cells of the surface, sampled on a
 sub-grid of ``refine`` points per cell side (the FE surface is cubic between
 nodes; FD's is bilinear, so refining adds nothing there but costs little). The
-union is rasterised (Pillow's polygon fill) at :data:`PIXELS` pixels across its
-extent: a pixel is about 1/4000 of the cloth, so the area is exact to about
-1e-3 of A_D - A_d, far below the differences measured between grids.
+union is rasterised (Pillow's polygon fill, which counts every pixel the
+boundary touches) at :data:`PIXELS` pixels across its extent and at half
+that, and extrapolated (Richardson) to zero pixel size: the fill's bias is
+first order in the pixel. Measured on a four-lobed patch of known area, the
+relative error is 1.7e-3, 8.8e-4, 4.5e-4 at 1024, 2048, 4096 pixels and
+2.1e-5 extrapolated; on the drape (issue 14) the raw 4096-pixel coefficient
+was 2.4e-4 to 6.0e-4 too high, as large as the finest grids' changes, and
+varying by as much from grid to grid.
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ import numpy as np
 
 from .contact import subgrid, tangent_basis
 
-__all__ = ["shadow_area", "drape_coefficient", "PIXELS"]
+__all__ = ["shadow_area", "raster_area", "drape_coefficient", "PIXELS"]
 
 #: pixels across the shadow's extent
 PIXELS = 4096
@@ -33,8 +38,15 @@ PIXELS = 4096
 def shadow_area(points: np.ndarray, axis=(0.0, 0.0, 1.0), pixels: int = PIXELS) -> float:
     """Area (m^2) of the projection along ``axis`` of a surface sampled on a grid of points (m, n, 3).
 
-    The union of the projected cells (two triangles each), rasterised; overlapping folds count once.
+    The union of the projected cells (two triangles each), rasterised at ``pixels`` and ``pixels // 2``
+    across and extrapolated to zero pixel size (module docstring); overlapping folds count once.
     """
+    return 2.0 * raster_area(points, axis, pixels) - raster_area(points, axis, pixels // 2)
+
+
+def raster_area(points: np.ndarray, axis=(0.0, 0.0, 1.0), pixels: int = PIXELS) -> float:
+    """The shadow's area (m^2) counted in pixels at ``pixels`` across its extent (biased high by about a
+    pixel's width times half its perimeter: every pixel the boundary touches counts)."""
     from PIL import Image, ImageDraw
 
     a = np.asarray(axis, float)

@@ -31,7 +31,7 @@ so the gradient is ``sum f J_s + g J_b`` and the Hessian
 
 with ``sum f Hess(s)`` = [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2), and
 ``sum g Hess(b)`` the second derivative of ``V . n``, ``V = sum g_ij v_ij``,
-in (t1, t2) (:func:`deformable.tensors.normal_hessian`) plus its mixed
+in (t1, t2) (written out in :mod:`deformable.kernels`) plus its mixed
 derivative g_ij Q between v_ij and (t1, t2).
 
 A *definite* Newton matrix (``kind="definite"``) keeps what can be made
@@ -45,6 +45,10 @@ each point's whole exact Hessian onto its positive part by an eigen-
 decomposition (Teran et al. 2005; the projected Newton of Li et al. 2020):
 dearer, kept for comparison.
 
+Gradients and Hessians are computed by the compiled kernels of
+:mod:`deformable.kernels` (one loop body per point, and the projection onto the
+elements); G, B and the energy are numpy.
+
 Layout: points first; slot vectors ``v`` are (P, S, 3); gradients (P, S, 3);
 Hessians (P, S, 3, S, 3) with index (slot, coordinate).
 """
@@ -53,7 +57,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import tensors
+from . import kernels, tensors
 from .backend import Energy
 from .elasticity import energy_density
 from .errors import InputError
@@ -67,16 +71,8 @@ FD_SLOTS = {"d1": 0, "d2": 1, "t1": 2, "t2": 3, "v11": 4, "v12": 5, "v22": 6}
 FE_SLOTS = {"d1": 0, "d2": 1, "t1": 0, "t2": 1, "v11": 2, "v12": 3, "v22": 4}
 #: residual order: s11, s22, s12, b11, b22, b12; the second derivative slot of each b
 _BEND = ("v11", "v22", "v12")
-
-
-def _residuals(v: np.ndarray, slots: dict, curvature: bool):
-    """(G11, G22, G12) and (B11, B22, B12), each (3, P), and the frame (n, |t1 x t2|); None without curvature."""
-    d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
-    G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
-    if not curvature:
-        return G, None, None
-    n, area = tensors.frame(v[:, slots["t1"]], v[:, slots["t2"]])
-    return G, np.stack([tensors.dot(n, v[:, slots[k]]) for k in _BEND]), (n, area)
+#: points per block of :meth:`Integrand.add_element_hessians` (FD 64 x 64: 512 as fast as one pass per point)
+_BLOCK = 512
 
 
 def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
@@ -86,7 +82,12 @@ def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np
     their rest tensors from here, with the arithmetic of the energy itself, so
     that the rest state has residuals exactly zero.
     """
-    G, B, _ = _residuals(v, slots, curvature)
+    d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
+    G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
+    B = None
+    if curvature:
+        n, _ = tensors.frame(v[:, slots["t1"]], v[:, slots["t2"]])
+        B = np.stack([tensors.dot(n, v[:, slots[k]]) for k in _BEND])
     sym = lambda T: np.array([[T[0], T[2]], [T[2], T[1]]])  # noqa: E731
     return sym(G), None if B is None else sym(B)
 
@@ -120,105 +121,51 @@ class Integrand:
         self.g0 = 2 * np.stack([x[0, 0] * B0[0, 0], x[1, 1] * B0[1, 1], x[0, 1] * B0[0, 1] + x[1, 0] * B0[1, 0]])
         self.bending = bool(np.any(x != 0))  # False: no normal is formed (degenerate tangents allowed)
         self.P = self.cS.shape[1]
+        # the compiled kernels' view: slot positions, residual weights and rest terms (6, P)
+        self._sl = np.array([slots[k] for k in ("d1", "d2", "t1", "t2")], np.int64)
+        self._bend = np.array([slots[k] for k in _BEND], np.int64)
+        self.c = np.ascontiguousarray(np.concatenate([self.cS, self.cB]))
+        self.r0 = np.ascontiguousarray(np.concatenate([self.f0, self.g0]))
 
     # -- energy -----------------------------------------------------------------------
-    def residuals(self, v: np.ndarray):
-        """Metric (G11, G22, G12) and curvature (B11, B22, B12), each (3, P), and the frame (n, |c|) or None."""
-        return _residuals(v, self.slots, self.bending)
-
     def energy(self, v: np.ndarray) -> Energy:
         """Eq. (13) summed over the points: (stretching, bending) (J)."""
         G, B = slot_tensors(v, self.slots, curvature=self.bending)
         stretching, bending = energy_density(self.eta, self.xi, G, self.G0, B, self.B0)
         return Energy(float(stretching.sum()), float(bending.sum()))
 
-    def _forces(self, v, sl):
-        G, B, frame = self.residuals(v)
-        f = 2 * self.cS[:, sl] * G - self.f0[:, sl]
-        g = None if B is None else 2 * self.cB[:, sl] * B - self.g0[:, sl]
-        return f, g, frame
-
     # -- derivatives ------------------------------------------------------------------
-    def jacobian(self, v: np.ndarray, frame=None) -> np.ndarray:
-        """Jacobian of the six residuals in the slots, (P, 6, S, 3) (the bending rows zero without bending)."""
-        P, s = v.shape[0], self.slots
-        J = np.zeros((P, 6, self.S, 3))
-        d1, d2 = v[:, s["d1"]], v[:, s["d2"]]
-        J[:, 0, s["d1"]] += 2 * d1
-        J[:, 1, s["d2"]] += 2 * d2
-        J[:, 2, s["d1"]] += d2
-        J[:, 2, s["d2"]] += d1
-        if frame is not None:
-            n, area = frame
-            t1, t2 = v[:, s["t1"]], v[:, s["t2"]]
-            for res, name in enumerate(_BEND):
-                vk = v[:, s[name]]
-                w = (vk - tensors.dot(vk, n)[:, None] * n) / area[:, None]
-                J[:, 3 + res, s["t1"]] += tensors.cross(t2, w)
-                J[:, 3 + res, s["t2"]] += tensors.cross(w, t1)
-                J[:, 3 + res, s[name]] += n
-        return J
-
     def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
-        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors)."""
-        f, g, frame = self._forces(v, sl)
-        J = self.jacobian(v, frame)
-        dres = np.concatenate([f, g if g is not None else np.zeros_like(f)]).T  # (P, 6)
-        return np.einsum("pr,prsa->psa", dres, J)
+        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors): ``sum_r F_r J_r`` (compiled)."""
+        _, sl_, bend, c, r0, _, bending = self._kernel_args(v, "newton", sl)
+        return kernels.point_gradients(np.ascontiguousarray(v, float), sl_, bend, c, r0, bending)
+
+    def _kernel_args(self, v, kind, sl):
+        if kind not in HESSIANS:
+            raise InputError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+        c, r0 = (np.ascontiguousarray(a[:, sl]) for a in (self.c, self.r0))  # one compiled signature
+        return np.ascontiguousarray(v, float), self._sl, self._bend, c, r0, kernels.KINDS[kind], self.bending
+
+    def _point_hessians(self, v, kind, sl):
+        """(P, 3S, 3S); "projected" from the exact ones by an eigen-decomposition."""
+        args = self._kernel_args(v, "newton" if kind == "projected" else kind, sl)
+        H = kernels.point_hessians(*args)
+        return kernels.positive_part(H) if kind == "projected" else H
 
     def hessian(self, v: np.ndarray, kind: str = "newton", sl=slice(None)) -> np.ndarray:
         """The Hessian of W in the slots at the points ``sl``, (P, S, 3, S, 3); ``kind`` one of :data:`HESSIANS`."""
-        if kind not in HESSIANS:
-            raise InputError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
-        P, S, s = v.shape[0], self.S, self.slots
-        f, g, frame = self._forces(v, sl)
-        J = self.jacobian(v, frame).reshape(P, 6, 3 * S)
-        c2 = 2 * np.concatenate([self.cS[:, sl], self.cB[:, sl]]).T  # (P, 6)
-        H = (np.swapaxes(J, 1, 2) * c2[:, None, :]) @ J  # Gauss-Newton, (P, 3S, 3S)
-        H = H.reshape(P, S, 3, S, 3)
-        if kind == "gauss-newton":
-            return H
-        # membrane: [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2); its positive part for "definite"
-        m = np.stack([np.stack([2 * f[0], f[2]], -1), np.stack([f[2], 2 * f[1]], -1)], -2)  # (P, 2, 2)
-        if kind == "definite":
-            m = _positive_part_2x2(m)
-        I3 = np.eye(3)
-        for i, a in enumerate(("d1", "d2")):
-            for j, b in enumerate(("d1", "d2")):
-                H[:, s[a], :, s[b], :] += m[:, i, j, None, None] * I3
-        if kind == "definite" or frame is None:
-            return H
-        # bending: the second derivative of V . n, V = sum g_ij v_ij
-        n, area = frame
-        V = sum(g[res][:, None] * v[:, s[name]] for res, name in enumerate(_BEND))
-        Htt, Q = tensors.normal_hessian(v[:, s["t1"]], v[:, s["t2"]], V)
-        tt = (s["t1"], s["t2"])
-        for i in range(2):
-            for j in range(2):
-                H[:, tt[i], :, tt[j], :] += Htt[:, 3 * i:3 * i + 3, 3 * j:3 * j + 3]
-        for res, name in enumerate(_BEND):
-            block = g[res][:, None, None] * Q  # (P, 3, 6): d/dv_ij d/d(t1, t2)
-            for i in range(2):
-                H[:, s[name], :, tt[i], :] += block[:, :, 3 * i:3 * i + 3]
-                H[:, tt[i], :, s[name], :] += np.swapaxes(block[:, :, 3 * i:3 * i + 3], 1, 2)
-        if kind == "projected":
-            w, U = np.linalg.eigh(H.reshape(P, 3 * S, 3 * S))
-            H = ((U * np.maximum(w, 0.0)[:, None, :]) @ np.swapaxes(U, 1, 2)).reshape(P, S, 3, S, 3)
-        return H
+        P, S = v.shape[0], self.S
+        return self._point_hessians(v, kind, sl).reshape(P, S, 3, S, 3)
 
+    def add_element_hessians(self, v: np.ndarray, kind: str, table: np.ndarray, which: np.ndarray,
+                             element: np.ndarray, out: np.ndarray) -> None:
+        """Add the Hessian of every point, carried to its element, to the elements' upper triangles ``out`` (E, nu).
 
-def _positive_part_2x2(m: np.ndarray) -> np.ndarray:
-    """The positive semi-definite part of symmetric 2 x 2 matrices (P, 2, 2), in closed form."""
-    a, b, d = m[:, 0, 0], m[:, 0, 1], m[:, 1, 1]
-    mean, half = 0.5 * (a + d), np.hypot(0.5 * (a - d), b)
-    lam1, lam2 = mean + half, mean - half  # lam1 >= lam2
-    out = np.zeros_like(m)
-    both = lam2 >= 0
-    out[both] = m[both]
-    one = (lam1 > 0) & ~both
-    # the eigenvector of lam1: (b, lam1 - a) or (lam1 - d, b), whichever is better conditioned
-    u = np.where((np.abs(lam1 - a) + np.abs(b) >= np.abs(lam1 - d) + np.abs(b))[:, None],
-                 np.stack([b, lam1 - a], -1), np.stack([lam1 - d, b], -1))[one]
-    u = u / np.linalg.norm(u, axis=-1, keepdims=True)
-    out[one] = lam1[one, None, None] * u[:, :, None] * u[:, None, :]
-    return out
+        Point p's block is ``B^T H_p B`` (x I3), ``B = table[which[p]]`` (S, L): the coefficients of the
+        element's L local nodes (FD: the stencil) or basis functions (FE) in the point's slots; local index
+        ``a L + l``, upper entries in ``numpy.triu_indices(3 L)`` order (:class:`deformable.assembly.SymmetricElements`).
+        Compiled (:mod:`deformable.kernels`), by blocks of points small enough for the cache.
+        """
+        for lo in range(0, v.shape[0], _BLOCK):
+            pts = slice(lo, min(lo + _BLOCK, v.shape[0]))
+            kernels.element_upper(self._point_hessians(v[pts], kind, pts), table, which[pts], element[pts], out)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["metric", "normal", "frame", "dot", "cross", "curvature", "gaussian_curvature", "det2", "skew", "normal_hessian"]
+__all__ = ["metric", "normal", "frame", "dot", "cross", "curvature", "gaussian_curvature", "det2"]
 
 
 def metric(dr: np.ndarray) -> np.ndarray:
@@ -99,40 +99,3 @@ def det2(T: np.ndarray) -> np.ndarray:
 def gaussian_curvature(G: np.ndarray, B: np.ndarray) -> np.ndarray:
     """Gaussian curvature K = det B / det G, shape (*pts), from (2, 2, *pts) fields."""
     return det2(B) / det2(G)
-
-
-def skew(a: np.ndarray) -> np.ndarray:
-    """Cross-product matrices ``[a]x`` with ``[a]x b = a x b``: (..., 3) -> (..., 3, 3)."""
-    z = np.zeros(a.shape[:-1])
-    return np.stack([np.stack([z, -a[..., 2], a[..., 1]], -1),
-                     np.stack([a[..., 2], z, -a[..., 0]], -1),
-                     np.stack([-a[..., 1], a[..., 0], z], -1)], -2)
-
-
-def normal_hessian(t1: np.ndarray, t2: np.ndarray, V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    r"""Second derivatives of ``f = V . n``, ``n = (t1 x t2)/|t1 x t2|``, for exact curvature Hessians.
-
-    With ``c = t1 x t2``, ``w = (V - (V.n) n)/|c|`` (the gradient of f in c),
-    ``Hess_c f = -(w n^T + n w^T)/|c| - (V.n)(I - n n^T)/|c|^2``,
-    ``dc = C (dt1, dt2)``, ``C = [-[t2]x, [t1]x]`` and ``d2c = 2 dt1 x dt2``:
-
-        d2f = dt^T (C^T Hess_c f C + [[0, -[w]x], [[w]x, 0]]) dt + 2 dV^T (I - n n^T)/|c| C dt.
-
-    Here the layout is points first (linear algebra per point): t1, t2, V are
-    (..., 3). Returns ``Htt`` (..., 6, 6), the Hessian in (t1, t2) at fixed V,
-    and ``Q`` (..., 3, 6), the mixed derivative d2f/dV d(t1, t2). Htt is
-    linear in V and Q does not depend on it, so residuals that share a frame
-    can sum their weighted V first.
-    """
-    n, area = frame(t1, t2)
-    nc = area[..., None, None]
-    Vn = dot(V, n)[..., None, None]
-    W = (V - Vn[..., 0] * n) / nc[..., 0]
-    P = np.eye(3) - n[..., :, None] * n[..., None, :]
-    Hf = -(W[..., :, None] * n[..., None, :] + n[..., :, None] * W[..., None, :]) / nc - Vn * P / nc**2
-    C = np.concatenate([-skew(t2), skew(t1)], axis=-1)
-    Htt = np.swapaxes(C, -1, -2) @ (Hf @ C)
-    Wx = skew(W)
-    Htt[..., 0:3, 3:6] -= Wx
-    Htt[..., 3:6, 0:3] += Wx
-    return Htt, (P @ C) / nc

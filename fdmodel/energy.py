@@ -58,8 +58,8 @@ corner is k) combines the positions of at most six nodes, the stencil
 Hessian is assembled node by node as an 18 x 18 block (6 nodes x 3
 coordinates) ``C_k^T H_k C_k`` from the point Hessians H_k and the stencil
 coefficients C_k of all parts, summed on one fixed pattern
-(:class:`deformable.assembly.SymmetricElements`): no sparse-sparse product
-per call. Stencil positions outside the grid carry zero coefficients (the
+(:class:`deformable.assembly.SymmetricElements`) by the compiled kernels of
+:mod:`deformable.kernels`: no sparse-sparse product per call. Stencil positions outside the grid carry zero coefficients (the
 natural boundary rule) and point at the node itself.
 
 Vectors are laid out coordinate by coordinate: flat index ``a * ndof + k`` for
@@ -75,6 +75,7 @@ import scipy.sparse as sp
 
 from deformable.assembly import SymmetricElements
 from deformable.backend import Energy
+from deformable.errors import InputError
 from deformable.integrand import HESSIANS, Integrand, slot_tensors
 
 __all__ = ["DiscreteEnergy", "SlotMap", "HESSIANS", "STENCIL"]
@@ -149,13 +150,6 @@ class SlotMap:
         G, B = slot_tensors(self(X, offset), self.layout)
         return G.reshape(2, 2, *self.shape), B.reshape(2, 2, *self.shape)
 
-    def element_matrices(self, H: np.ndarray) -> np.ndarray:
-        """Stencil blocks ``C^T H C`` (MN, 18, 18), index a 6 + p, from point Hessians H (MN, S, 3, S, 3)."""
-        Hc = H.transpose(0, 2, 4, 1, 3)  # (n, 3, 3, S, S)
-        He = np.swapaxes(self.C, 1, 2)[:, None, None] @ Hc @ self.C[:, None, None]  # (n, 3, 3, 6, 6)
-        return He.transpose(0, 1, 3, 2, 4).reshape(self.n, 18, 18)
-
-
 class DiscreteEnergy:
     """Energy (13) of an FD node grid as a function of the positions: a sum of parts (module docstring).
 
@@ -198,6 +192,11 @@ class DiscreteEnergy:
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
         or "projected" (:mod:`deformable.integrand`).
         """
-        He = sum(slots.element_matrices(w.hessian(slots(X), kind)) for slots, w in self.parts)
-        pat = self.pattern
-        return pat.matrix(pat.collect(He[:, pat.upper[0], pat.upper[1]]))
+        if kind not in HESSIANS:
+            raise InputError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+        pat, n = self.pattern, self.n
+        upper = np.zeros((n, pat.upper[0].size))
+        every = np.arange(n)
+        for slots, w in self.parts:
+            w.add_element_hessians(slots(X), kind, slots.C, every, every, upper)
+        return pat.matrix(pat.collect(upper))

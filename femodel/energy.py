@@ -18,8 +18,8 @@ integrand, its gradient p and its Hessian H per point. They are carried to the
 element by ``D``: gradient ``g_e[l] = sum_{q,k} D_k[l, q] p_k``, Hessian
 ``K_e[l, m] = sum_{q,k,k'} D_k[l, q] H_{kk'} D_k'[m, q]``, summed on a fixed
 pattern (:class:`deformable.assembly.SymmetricElements` over the 48 = 3 x 16
-local degrees of freedom of an element), element blocks in one batched
-product.
+local degrees of freedom of an element): point Hessians by the compiled
+kernel of :mod:`deformable.kernels`, element blocks by two dense products.
 
 Vectors and matrices are coordinate-blocked: flat index ``a * ndof + k`` for
 coordinate a of degree of freedom k.
@@ -40,8 +40,8 @@ __all__ = ["DiscreteEnergy", "HESSIANS", "SLOTS", "slots"]
 
 #: derivative orders (d1, d2) of the five slots: r_1, r_2, r_11, r_12, r_22
 SLOTS = DERIVATIVES[1:]
-#: elements per block in the Hessian assembly (small enough that the point and element Hessians stay in cache)
-_BLOCK = 64
+#: elements per block of the Hessian assembly (measured at FE 32 x 32: 16 best, 64 1.5x, 128 1.7x slower)
+_BLOCK = 16
 
 
 def slots(X: np.ndarray, ldofs: np.ndarray, dq: dict) -> np.ndarray:
@@ -104,12 +104,17 @@ class DiscreteEnergy:
         return self._scatter @ local.reshape(-1, 3)
 
     def element_matrices(self, H: np.ndarray) -> np.ndarray:
-        """Element Hessians from point Hessians (Ec, nq, 15, 15): (Ec, 48, 48), index a 16 + l."""
+        """Element Hessians from point Hessians (Ec, nq, 15, 15): (Ec, 48, 48), index a 16 + l.
+
+        Two dense products (BLAS): ``T = H D`` per point, then ``D^T T`` over all the element's points at
+        once; measured at FE 32 x 32 elements, faster than a compiled point-by-point projection (40 against
+        118 ms of CPU per Hessian) because the basis tables D are dense.
+        """
         Ec, nq = H.shape[:2]
         H = H.reshape(Ec, nq, 5, 3, 5, 3).transpose(0, 1, 2, 3, 5, 4).reshape(Ec, nq, 45, 5)
         T = H @ self.D  # (Ec, nq, 45, 16): [e, q, (k, a, b), m]
-        T = T.reshape(Ec, nq, 5, 3, 3, 16).transpose(0, 3, 4, 5, 1, 2).reshape(Ec, 144, nq * 5)
-        K = T @ self.Dflat  # (Ec, 144, 16): [e, (a, b, m), l]
+        T = T.reshape(Ec, nq, 5, 3, 3, 16).transpose(0, 3, 4, 5, 1, 2).reshape(Ec * 144, nq * 5)
+        K = T @ self.Dflat  # (Ec 144, 16): [(e, a, b, m), l]
         return K.reshape(Ec, 3, 3, 16, 16).transpose(0, 1, 4, 2, 3).reshape(Ec, 48, 48)
 
     def hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
@@ -120,11 +125,10 @@ class DiscreteEnergy:
         or "projected" (:mod:`deformable.integrand`).
         """
         v = slots(X, self.ldofs, self.dq)
-        pat, nq = self.pattern, self.nq
+        pat, nq, E = self.pattern, self.nq, self.ldofs.shape[0]
         iu = pat.upper
-        E = self.ldofs.shape[0]
         upper = np.empty((E, iu[0].size))
-        for lo in range(0, E, _BLOCK):  # blocks of elements bound the memory of the point Hessians
+        for lo in range(0, E, _BLOCK):  # blocks of elements keep the point and element Hessians in cache
             hi = min(lo + _BLOCK, E)
             pts = slice(lo * nq, hi * nq)
             H = self.integrand.hessian(v[pts], kind, pts).reshape(hi - lo, nq, 15, 15)

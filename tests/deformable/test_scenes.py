@@ -175,3 +175,14 @@ def test_curtain_gathers_into_folds_and_flag_waves_over_two_seconds():
     assert res.status == "finished"
     ys = np.array(ys[len(ys) // 2:])
     assert np.sum(np.diff(np.sign(ys - ys.mean())) != 0) >= 4, "the free edge swings back and forth"
+
+
+def test_the_drape_holds_the_cloth_at_four_contact_points_per_cell_side():
+    """The rim holds the cloth where it is, not at the nearest node (the drape's convergence, reports/contact)."""
+    from deformable.contact import contact_points
+    from validation.harness.backends import make_model
+
+    cfg = scenes.config("drape", nodes=(5, 5))
+    assert cfg.contact.samples == 4 and scenes.config("sphere").contact.samples is None
+    for backend in ("fd", "fe"):
+        assert contact_points(make_model(scenes.build(cfg), backend)).P == 17 * 17
