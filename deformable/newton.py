@@ -75,7 +75,7 @@ from .assembly import ReducedSystem
 from .contact import ContactPotential
 from .elasticity import require_energy_gradient
 from .errors import InputError, NumericalError
-from .linalg import SingularMatrix, make_solver
+from .linalg import SingularMatrix, make_solver, one_blas_thread
 
 __all__ = ["ConvergenceError", "NewtonReport", "NewtonSettings", "FlatEnergy", "Newton", "WATCHDOG", "flat", "unflat"]
 
@@ -357,6 +357,8 @@ class Newton:
                  scale: float | None = None):
         """Minimise phi over the free degrees of freedom from x (held ones stay); returns (x, NewtonReport).
 
+        OpenBLAS keeps one thread meanwhile (:func:`deformable.linalg.one_blas_thread`).
+
         Parameters
         ----------
         phi, grad : callables of the flat vector x
@@ -371,6 +373,10 @@ class Newton:
         scale : float, optional
             The residual (N) that ``rtol`` is relative to; default the residual at x.
         """
+        with one_blas_thread():
+            return self._minimise(phi, grad, x, cm, cc, label, damping, scale)
+
+    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale):
         s, p = self.settings, self.problem
         free = p.free
         report = NewtonReport(floor=self._floor)

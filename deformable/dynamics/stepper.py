@@ -51,6 +51,7 @@ import numpy as np
 from ..checks import count, real
 from ..elasticity import stretching_step
 from ..errors import InputError, ResourceError
+from ..linalg import one_blas_thread
 from .implicit import IMPLICIT_SCHEMES, Implicit, StepRejected
 from .semi_implicit import SemiImplicit
 from .state import DivergenceError, RunResult, StalledError, State
@@ -203,6 +204,10 @@ class TimeStepper:
         Raises StalledError (with the last good state) when the step would fall below ``dt_min``, and
         DivergenceError when positions leave the finite numbers.
         """
+        with one_blas_thread():
+            return self._step(state, dt)
+
+    def _step(self, state: State, dt: float | None) -> State:
         if not self._scheme.adaptive:
             return self._scheme.step(state, self._X0, dt)
         dt = self.dt_now if dt is None else min(dt, self.dt_now)

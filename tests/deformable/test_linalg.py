@@ -60,3 +60,21 @@ def test_auto_picks_pardiso_for_large_matrices_where_installed_and_names_are_che
     if "pardiso" not in linalg.available():
         with pytest.raises(ValueError, match=r'pip install "deformable\[fast\]"'):
             make_solver("pardiso")
+
+
+def test_openblas_keeps_one_thread_while_a_solver_loop_runs():
+    """PARDISO's factorisations and numpy's OpenBLAS share the cores: OpenBLAS is held to one thread inside
+    one_blas_thread where PARDISO may run (the test extras install it and threadpoolctl), and restored after;
+    elsewhere the context changes nothing."""
+    import threadpoolctl
+
+    from deformable.linalg import available, one_blas_thread
+
+    def openblas_threads():
+        return [c.num_threads for c in threadpoolctl.ThreadpoolController().select(internal_api="openblas").lib_controllers]
+
+    before = openblas_threads()
+    with one_blas_thread():
+        inside = openblas_threads()
+    assert openblas_threads() == before
+    assert inside == ([1] * len(before) if "pardiso" in available() else before)
