@@ -79,19 +79,45 @@ def select(where, sheet) -> np.ndarray:
     return mask
 
 
+def _axes(value, most: int) -> tuple[int, ...] | None:
+    """The sorted coordinates (0, 1, 2) that ``value`` names (an axis or a tuple of at most ``most`` different
+    ones), or None if it names no such set."""
+    given = value if isinstance(value, (tuple, list)) else (value,)
+    if not 1 <= len(given) <= most or not all(not isinstance(a, bool) and a in AXES for a in given):
+        return None
+    axes = tuple(sorted({AXES[a] for a in given}))
+    return axes if len(axes) == len(given) else None
+
+
 @dataclass(frozen=True)
 class Pin:
     """Hold the selected nodes at their initial positions.
 
     ``motion``, optional: a callable ``t -> (3,)`` displacement added to the
     initial positions (prescribed rigid motion of the pinned nodes).
+    ``axes``, optional: hold only these coordinates ("x", "y", "z" or 0, 1, 2;
+    a tuple), leaving the others free: ``Pin(where, motion, axes=("x", "z"))``
+    carries the nodes along x and holds their height, and lets them swing
+    along y (a curtain's ring on its rod). None (the default): all three.
     """
 
     where: object
     motion: Callable[[float], np.ndarray] | None = None
+    axes: tuple | None = None
 
     def __post_init__(self):
         function("Pin.motion", self.motion)
+        if self.axes is not None:
+            axes = _axes(self.axes, 3)
+            if axes is None:
+                raise InputError(f"Pin.axes must be None or different axes among 'x', 'y', 'z', 0, 1, 2; got "
+                                 f"{self.axes!r}", field="Pin.axes", value=self.axes)
+            object.__setattr__(self, "axes", axes)
+
+    @property
+    def held(self) -> tuple[int, ...]:
+        """The held coordinates (0, 1, 2 for x, y, z)."""
+        return (0, 1, 2) if self.axes is None else self.axes
 
 
 @dataclass(frozen=True)
@@ -108,10 +134,8 @@ class Slide:
     axis: object = "x"
 
     def __post_init__(self):
-        given = self.axis if isinstance(self.axis, (tuple, list)) else (self.axis,)
-        ok = 1 <= len(given) <= 2 and all(not isinstance(a, bool) and a in AXES for a in given)
-        axes = tuple(sorted({AXES[a] for a in given})) if ok else ()
-        if not ok or len(axes) != len(given):
+        axes = _axes(self.axis, 2)
+        if axes is None:
             raise InputError(f"Slide.axis must be one of 'x', 'y', 'z', 0, 1, 2 or two different ones; got "
                              f"{self.axis!r}", field="Slide.axis", value=self.axis)
         object.__setattr__(self, "axis", axes[0] if len(axes) == 1 else axes)
@@ -194,7 +218,8 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
         values = node_dofs(select(c.where, sheet))
         held = np.concatenate([values] + [edge_dofs(e) for e in edges_named(c.where)])
         if isinstance(c, Pin):
-            fixed[:, held] = True
+            for k in c.held:
+                fixed[k, held] = True
             if c.motion is not None:
                 motions.append((values, c.motion))
         else:  # Slide: every component but the rail's axes

@@ -61,7 +61,10 @@ Scenes (paper section 5), and how they differ from the paper's text:
     (held on a line, every top node would be a hinge at y = 0 and folds
     would start at grid scale under the rod). The paper's perpendicular push
     stays available (``push``; ``folds > 0`` gives it the earlier sin pattern,
-    which selects the number of folds).
+    which selects the number of folds). ``rings = 1`` carries the top on
+    hooks drawn together uniformly instead (``hooks`` their spacing): an
+    experiment that folds at the grid scale at the quick grids
+    (docs/design.md, "Findings").
 ``curtain-silky`` (Fig. 5)
     The curtain with ``scale = 20`` (mu, gamma, f times 20, section 3.1), on
     a 64 x 64 grid that resolves its shorter bending length. The paper keeps
@@ -455,6 +458,14 @@ class CurtainConfig(SceneConfig):
         (0.6: the top gathers to 40 % of it); 0 leaves the top in place.
     draw_time : float
         Seconds over which it is drawn (a smooth ramp, :func:`smooth_ramp`).
+    rings : int
+        0 (default): the top row slides on the rod and its end at a1 = L1 is drawn. 1: the top hangs from
+        hooks on rings that are drawn together uniformly, each hook at a1 carried to x = a1 (1 - gather
+        ramp), holding its height, free to swing along y; the top between hooks slides in the rod's plane.
+        An experiment (issue 13): at the quick grids it folds at the grid scale (docs/design.md, "Findings").
+    hooks : float
+        With ``rings = 1``: the spacing of the hooks along the top (m, rounded to whole grid spacings;
+        :func:`hook_nodes`); 0: a hook at every top node.
     noise : float
         RMS of the start's ripple across the plane (m, :class:`FoldNoise`).
     seed : int
@@ -471,18 +482,24 @@ class CurtainConfig(SceneConfig):
 
     gather: float = 0.6
     draw_time: float = 1.6
+    rings: int = 0
+    hooks: float = 0.0
     noise: float = 1e-3
     seed: int = 1
     push: float = 0.0
     folds: float = 0.0
     taper: float = 0.5
     POSITIVE: ClassVar[tuple] = SceneConfig.POSITIVE + ("draw_time",)
-    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("noise", "folds", "seed")
+    NON_NEGATIVE: ClassVar[tuple] = SceneConfig.NON_NEGATIVE + ("noise", "folds", "seed", "hooks")
+    RINGS: ClassVar[tuple] = (0, 1)
 
     def __post_init__(self):
         super().__post_init__()
         if not 0 <= self.gather < 1:
             raise InputError(f"scene field gather must lie in [0, 1), got {self.gather!r}")
+        if self.rings not in self.RINGS:
+            raise InputError(f"scene field rings must be 0 (the drawn end) or 1 (hooks drawn together), got "
+                             f"{self.rings!r}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -603,15 +620,52 @@ def _curtain(cfg: CurtainConfig) -> Scene:
             return np.stack([np.zeros_like(fy), fy, np.zeros_like(fy)], axis=-1)
 
         forces.append(BodyForce(perpendicular))
-    constraints = [Slide("top", ("x", "y")), Pin("top-left")]
-    if cfg.gather:
-        travel, duration = cfg.gather * L1, cfg.draw_time
+    if cfg.rings:
+        constraints = _rings(cfg)
+    else:  # the top slides on the rail; its end at a1 = L1 is drawn
+        constraints = [Slide("top", ("x", "y")), Pin("top-left")]
+        if cfg.gather:
+            travel, duration = cfg.gather * L1, cfg.draw_time
 
-        def draw(t):
-            return (-travel * float(smooth_ramp(t / duration)), 0.0, 0.0)
+            def draw(t):
+                return (-travel * float(smooth_ramp(t / duration)), 0.0, 0.0)
 
-        constraints.append(Pin("top-right", motion=draw))
+            constraints.append(Pin("top-right", motion=draw))
     return Scene(sheet, cfg.material(), forces=forces, constraints=constraints, **cfg.scene_kwargs())
+
+
+def hook_nodes(cfg: CurtainConfig) -> np.ndarray:
+    """The indices m of the top-row nodes that carry the curtain's hooks (``rings = 1``), both ends included.
+
+    ``hooks = 0``: every top node; ``hooks = s > 0``: the nodes nearest to a1 = 0, s, 2 s, ... and the last.
+    """
+    M = cfg.nodes[0]
+    if cfg.hooks == 0:
+        return np.arange(M)
+    step = max(1, int(round(cfg.hooks * (M - 1) / cfg.size[0])))
+    return np.unique(np.append(np.arange(0, M, step), M - 1))
+
+
+def _rings(cfg: CurtainConfig) -> list:
+    """The top carried by hooks on rings, the rings drawn together uniformly towards a1 = 0 (``rings = 1``).
+
+    A hook at a1 keeps its height and is carried to x = a1 (1 - gather ramp(t / draw_time)); it swings freely
+    along y (a ring on the rod). The top nodes between hooks slide in the rod's horizontal plane.
+    """
+    L1, (M, N) = cfg.size[0], cfg.nodes
+    hooks = hook_nodes(cfg)
+    constraints = [Slide("top", ("x", "y"))]  # the rod holds the height (FE: also the slope along the top)
+
+    def carried(a1):
+        def motion(t):
+            return (-a1 * cfg.gather * float(smooth_ramp(t / cfg.draw_time)), 0.0, 0.0)
+        return motion
+
+    for m in hooks:
+        a1 = m * L1 / (M - 1)
+        constraints.append(Pin(np.array([[m, N - 1]]), motion=carried(a1) if cfg.gather and m else None,
+                               axes=("x", "z")))
+    return constraints
 
 
 def _flag(cfg: FlagConfig) -> Scene:

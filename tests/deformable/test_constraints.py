@@ -59,3 +59,19 @@ def test_hold_maps_pins_slides_and_clamps_through_the_backends_callbacks():
     X0 = np.zeros((40, 3))
     X = held.prescribed(X0, 2.0)
     assert X[0].tolist() == [2.0, 0.0, 0.0] and not X[1:].any()
+
+
+def test_a_pin_may_hold_some_coordinates_only():
+    assert dm.Pin("top").axes is None and dm.Pin("top").held == (0, 1, 2)
+    assert dm.Pin("top", axes=("z", "x")).held == (0, 2) and dm.Pin("top", axes="y").held == (1,)
+    for bad in ("w", ("x", "x"), (), True):
+        with pytest.raises(ValueError, match="Pin.axes"):
+            dm.Pin("top", axes=bad)
+    node = lambda mask: np.flatnonzero(mask)  # noqa: E731
+    none = lambda name: np.array([], int)  # noqa: E731
+    scene = dm.Scene(SHEET, dm.Material(), constraints=[dm.Pin("top-right", motion=lambda t: (t, 5.0, 0.0),
+                                                               axes=("x", "z"))])
+    held = hold(scene, 20, node, none, none)
+    corner = set(np.flatnonzero(dm.select("top-right", SHEET)).tolist())
+    fx, fy, fz = (set(f.tolist()) for f in held.fixed)
+    assert fx == fz == corner and fy == set()  # y stays free: its prescribed value is never used

@@ -77,6 +77,23 @@ def test_curtain_top_keeps_its_height_and_its_drawn_end_travels_the_gathered_wid
         assert x == pytest.approx(cfg.size[0] * (1 - cfg.gather * travel), abs=1e-12)
 
 
+def test_the_curtains_rings_carry_the_top_together_uniformly_and_let_it_swing_along_y():
+    cfg = scenes.config("curtain", nodes=(10, 8), rings=1)
+    model = FDModel(scenes.build(cfg))
+    fx, fy, fz = (set(map(int, f)) for f in model.fixed_dofs())
+    top = [m * 8 + 7 for m in range(10)]
+    assert set(top) <= fx & fz and not set(top) & fy
+    X0 = model.initial_state()
+    X = model.prescribed(X0, cfg.draw_time)
+    np.testing.assert_allclose(X[top, 0], X0[top, 0] * (1 - cfg.gather), atol=1e-12)
+    hooks = scenes.hook_nodes(cfg.replace(hooks=0.25))  # h = 1/9 m: every second node, and the last
+    assert hooks.tolist() == [0, 2, 4, 6, 8, 9]
+    fx, fy, fz = (set(map(int, f)) for f in FDModel(scenes.build(cfg.replace(hooks=0.25))).fixed_dofs())
+    assert fx & set(top) == {m * 8 + 7 for m in hooks} and set(top) <= fz and not fy & set(top)
+    with pytest.raises(ValueError, match="rings must be 0"):
+        scenes.config("curtain", rings=2)
+
+
 def test_the_curtains_ripple_is_the_same_function_on_both_backends_and_has_its_rms():
     from femodel import FEModel
 
