@@ -137,8 +137,8 @@ class Integrand:
     # -- derivatives ------------------------------------------------------------------
     def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
         """dW/d(slots), (P, S, 3) (J per unit of the slot vectors): ``sum_r F_r J_r`` (compiled)."""
-        _, sl_, bend, c, r0, _, bending = self._kernel_args(v, "newton", sl)
-        return kernels.point_gradients(np.ascontiguousarray(v, float), sl_, bend, c, r0, bending)
+        v_, sl_, bend, c, r0, _, bending = self._kernel_args(v, "newton", sl)
+        return kernels.point_gradients(v_, sl_, bend, c, r0, bending)
 
     def _kernel_args(self, v, kind, sl):
         if kind not in HESSIANS:

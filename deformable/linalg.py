@@ -34,10 +34,12 @@ OpenBLAS's; after a product OpenBLAS's idle threads keep spinning for a while,
 on the very cores the next factorisation needs. :func:`one_blas_thread` keeps
 OpenBLAS to one thread while a solver loop runs (through ``threadpoolctl``,
 installed with the ``fast`` extra; without it nothing changes). Measured on
-the curtain's Newton steps (two cores, quiet): a factorisation took 63 ms in
-the loop against 32 ms alone at FD 64 x 64 nodes, 73 against 36 ms at FE
-32 x 32 elements; with one OpenBLAS thread 33 and 41 ms, and FE's assembly
-(numpy products) got faster too.
+the curtain's Newton matrices (two cores, quiet, median of 8 assemble-then-
+factor rounds): FE 32 x 32 elements 91 ms a factorisation in the loop
+against 36 ms alone, 47-52 ms with one OpenBLAS thread; FD 64 x 64 nodes
+32-47 against 34-35 ms, within the noise. In the bench, one Newton
+iteration over one factor+solve went from 3.92 to 2.47 (FE 32) and from
+2.79 to 1.93 (FD 64).
 """
 
 from __future__ import annotations
