@@ -190,11 +190,14 @@ class FDModel:
         zero = np.zeros((M, N))
         # the normal of B11, B22: eq. (19)'s forward tangents (the variational model adds a backward half below);
         # central ones were measured and dropped (docs/design.md)
-        ops, T = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2))
+        ops, T = self.ghost.operators(self.ops, self._tangents)
         names = ("D1", "D2", "T1", "T2", "D11", "D12", "D22")
         rows = [ops["D1"], ops["D2"], T[0], T[1], ops["D11"], ops["D12"], ops["D22"]]
-        offset = (lambda surface: self.ghost.offset(surface, names)) if self.ghost else (lambda surface: None)
-        self._node_slots = SlotMap(rows, (M, N), FD_SLOTS, offset(sheet.initial))
+
+        def offset(surface, slot_names):  # the clamp's affine part of the slots, None without a clamp
+            return self.ghost.offset(surface, slot_names) if self.ghost else None
+
+        self._node_slots = SlotMap(rows, (M, N), FD_SLOTS, offset(sheet.initial, names))
         A1, A2 = cell_tangents(M, N, self.h1, self.h2)
         Z = sp.csr_matrix((M * N, M * N))
         # the points past the last row are no cells: unit tangents there keep their (unused) normal defined
@@ -210,13 +213,12 @@ class FDModel:
         if self.scene.force_model == "variational":
             bops, Tb = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2, backward=True))
             bnames = ("T1", "T2", "D11", "D12", "D22")
-            boffset = (lambda surface: self.ghost.offset(surface, bnames)) if self.ghost else (lambda surface: None)
             self._backward_slots = SlotMap([Tb[0], Tb[1], bops["D11"], Z, bops["D22"]], (M, N), FE_SLOTS,
-                                           boffset(sheet.initial))
+                                           offset(sheet.initial, bnames))
             bend = 0.5 * bend
-        parts = [(self._node_slots, offset(sheet.rest), np.array([[rw["D1"], zero], [zero, rw["D2"]]]), bend)]
+        parts = [(self._node_slots, offset(sheet.rest, names), np.array([[rw["D1"], zero], [zero, rw["D2"]]]), bend)]
         if self._backward_slots is not None:
-            parts.append((self._backward_slots, boffset(sheet.rest), np.zeros((2, 2, M, N)), bend))
+            parts.append((self._backward_slots, offset(sheet.rest, bnames), np.zeros((2, 2, M, N)), bend))
         if np.any(self.eta[0, 1] + self.eta[1, 0] != 0) or np.any(self.xi[0, 1] + self.xi[1, 0] != 0):
             parts.append((self._cell_slots, None, shear, shear))
         X_rest = self.discretize(sheet.rest)
