@@ -37,6 +37,14 @@ def canonical(A) -> sp.csr_matrix:
     return A
 
 
+def same_pattern(A, indptr: np.ndarray, indices: np.ndarray) -> bool:
+    """Whether compressed matrix A has this indptr and indices: at once when they are the very arrays (a
+    :class:`FixedPattern`'s matrices keep them), else compared entry by entry."""
+    if A.indptr is indptr and A.indices is indices:
+        return True
+    return np.array_equal(A.indptr, indptr) and np.array_equal(A.indices, indices)
+
+
 def coordinates(A: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
     """Row and column of every stored entry of a CSR matrix."""
     rows = np.repeat(np.arange(A.shape[0], dtype=np.int64), np.diff(A.indptr))
@@ -258,7 +266,7 @@ class ReducedSystem:
             raise ValueError(f"ReducedSystem was built with {len(self._varying) - 1} extra matrices, got {len(extra)}")
         A = self.base.copy()
         for (idx, indptr, indices), B in zip(self._varying, (K, *extra)):
-            if not (np.array_equal(B.indptr, indptr) and np.array_equal(B.indices, indices)):
+            if not same_pattern(B, indptr, indices):
                 raise ValueError("a matrix of the system changed its sparsity pattern between steps")
             A[idx] += B.data
         return A
@@ -302,6 +310,6 @@ class BlockPattern:
 
     def matrix(self, blocks: dict) -> sp.csr_matrix:
         for S in blocks.values():
-            if not (np.array_equal(S.indptr, self.indptr) and np.array_equal(S.indices, self.indices)):
+            if not same_pattern(S, self.indptr, self.indices):
                 raise ValueError("a block changed its sparsity pattern between calls")
         return self.pattern.matrix(self.pattern.data(np.concatenate([blocks[ab].data for ab in self.order])))

@@ -32,8 +32,11 @@ solve, SuperLU faster up to about 4 000 unknowns, 20 000 entries).
 Two thread pools. PARDISO runs on MKL's threads, numpy's own products on
 OpenBLAS's; after a product OpenBLAS's idle threads keep spinning for a while,
 on the very cores the next factorisation needs. :func:`one_blas_thread` keeps
-OpenBLAS to one thread while a solver loop runs (through ``threadpoolctl``,
-installed with the ``fast`` extra; without it nothing changes). Measured on
+OpenBLAS to one thread while a solver loop runs (through ``threadpoolctl``),
+whatever the solver: SuperLU factorises as fast either way (measured, FD 48 x
+48 nodes: 81-89 ms with two OpenBLAS threads, 82-83 with one), and the
+Hessian's blocks run on threads of their own there
+(:func:`deformable.integrand.for_blocks`). Measured on
 the curtain's Newton matrices (two cores, quiet, median of 8 assemble-then-
 factor rounds): FE 32 x 32 elements 91 ms a factorisation in the loop
 against 36 ms alone, 47-52 ms with one OpenBLAS thread; FD 64 x 64 nodes
@@ -53,6 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .assembly import same_pattern
 from .errors import InputError
 
 __all__ = ["SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS", "available", "SingularMatrix", "SPLU_OPTIONS"]
@@ -148,7 +152,7 @@ class Pardiso:
         self._keep = np.flatnonzero(keep)
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rows[keep], minlength=n))])
         self._upper = sp.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
-        self._pattern = (A.indptr.copy(), A.indices.copy())
+        self._pattern = (A.indptr, A.indices)  # the very arrays: a fixed pattern is recognised at once
         self._call(11, np.zeros((n, 1)))
 
     def _call(self, phase: int, b: np.ndarray) -> np.ndarray:
@@ -164,10 +168,11 @@ class Pardiso:
 
     def factor(self, A) -> "Pardiso":
         """Factorise A (square, symmetric); the pattern's analysis is reused when it did not change."""
+        if sp.issparse(A) and A.format == "csc":  # symmetric: its CSC arrays are its CSR ones (no transposing copy)
+            A = sp.csr_matrix((A.data, A.indices, A.indptr), shape=A.shape)
         A = sp.csr_matrix(A)
         A.sort_indices()
-        same = (self._pattern is not None and np.array_equal(A.indptr, self._pattern[0])
-                and np.array_equal(A.indices, self._pattern[1]))
+        same = self._pattern is not None and same_pattern(A, *self._pattern)
         if not same:
             self._solver._check_A(A)
             self._analyse(A)
@@ -245,8 +250,6 @@ def _openblas():
 
 
 def one_blas_thread():
-    """A context in which OpenBLAS uses one thread (module docstring), when PARDISO may run; else a no-op."""
-    if "pardiso" not in available():
-        return contextlib.nullcontext()
+    """A context in which OpenBLAS uses one thread (module docstring); a no-op where numpy's BLAS is not OpenBLAS."""
     blas = _openblas()
     return contextlib.nullcontext() if blas is None else blas.limit(limits=1)
