@@ -55,6 +55,10 @@ Hessians (P, S, 3, S, 3) with index (slot, coordinate).
 
 from __future__ import annotations
 
+import concurrent.futures
+import functools
+import os
+
 import numpy as np
 
 from . import kernels, tensors
@@ -62,7 +66,7 @@ from .backend import Energy
 from .elasticity import energy_density
 from .errors import InputError
 
-__all__ = ["Integrand", "slot_tensors", "HESSIANS", "FE_SLOTS", "FD_SLOTS"]
+__all__ = ["Integrand", "slot_tensors", "for_blocks", "hessian_threads", "HESSIANS", "FE_SLOTS", "FD_SLOTS"]
 
 HESSIANS = ("newton", "gauss-newton", "definite", "projected")
 #: slot names in the order of the slot axis: (d1, d2, t1, t2, v11, v12, v22) -> position
@@ -73,6 +77,30 @@ FE_SLOTS = {"d1": 0, "d2": 1, "t1": 0, "t2": 1, "v11": 2, "v12": 3, "v22": 4}
 _BEND = ("v11", "v22", "v12")
 #: points per block of :meth:`Integrand.add_element_hessians` (FD 64 x 64: 512 as fast as one pass per point)
 _BLOCK = 512
+
+
+def hessian_threads() -> int:
+    """Threads that assemble FD Hessians: the cores this process may use (at most 4), or OMP_NUM_THREADS where it
+    is set (1 on Dask's workers, which get a core each)."""
+    if os.environ.get("OMP_NUM_THREADS", "").isdigit():
+        return max(1, int(os.environ["OMP_NUM_THREADS"]))
+    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
+
+
+@functools.cache
+def _pool(threads: int) -> concurrent.futures.ThreadPoolExecutor:
+    return concurrent.futures.ThreadPoolExecutor(threads, thread_name_prefix="deformable-hessian")
+
+
+def for_blocks(work, starts, parallel: bool = True) -> None:
+    """``work(lo)`` for every block start, on :func:`hessian_threads` threads when ``parallel`` (the blocks must
+    write disjoint parts of their output; the compiled kernels and BLAS release the GIL), else in turn."""
+    threads = hessian_threads() if parallel else 1
+    if threads > 1 and len(starts) > 1:
+        list(_pool(threads).map(work, starts))  # list: a block's exception is raised here
+    else:
+        for lo in starts:
+            work(lo)
 
 
 def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
@@ -166,6 +194,9 @@ class Integrand:
         ``a L + l``, upper entries in ``numpy.triu_indices(3 L)`` order (:class:`deformable.assembly.SymmetricElements`).
         Compiled (:mod:`deformable.kernels`), by blocks of points small enough for the cache.
         """
-        for lo in range(0, v.shape[0], _BLOCK):
+        def block(lo):
             pts = slice(lo, min(lo + _BLOCK, v.shape[0]))
             kernels.element_upper(self._point_hessians(v[pts], kind, pts), table, which[pts], element[pts], out)
+
+        # in threads when every point has an element of its own (FD: its node): no two blocks add to one row of out
+        for_blocks(block, range(0, v.shape[0], _BLOCK), parallel=bool(np.all(np.diff(element) > 0)))

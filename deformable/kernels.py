@@ -241,7 +241,7 @@ def point_gradients(v, sl, bend, c, r0, bending):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def point_hessians(v, sl, bend, c, r0, kind, bending):
     """The Hessian at every point, (P, 3S, 3S) (index 3 slot + coordinate).
 
@@ -303,7 +303,7 @@ def _project(Hp, B, row, T, start):
                         row[base + j] += x * Tsa[j]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def element_upper(H, table, which, element, out):
     """Add every point's Hessian, projected onto its element, to the elements' upper triangles.
 

@@ -32,7 +32,8 @@ import scipy.sparse as sp
 
 from deformable.assembly import SymmetricElements, element_vectors
 from deformable.backend import Energy
-from deformable.integrand import FE_SLOTS, HESSIANS, Integrand, slot_tensors
+from deformable.integrand import FE_SLOTS, HESSIANS, Integrand, for_blocks, slot_tensors
+from deformable.linalg import one_blas_thread
 
 from .hermite import DERIVATIVES, evaluate
 
@@ -128,9 +129,13 @@ class DiscreteEnergy:
         pat, nq, E = self.pattern, self.nq, self.ldofs.shape[0]
         iu = pat.upper
         upper = np.empty((E, iu[0].size))
-        for lo in range(0, E, _BLOCK):  # blocks of elements keep the point and element Hessians in cache
+
+        def block(lo):  # blocks of elements keep the point and element Hessians in cache
             hi = min(lo + _BLOCK, E)
             pts = slice(lo * nq, hi * nq)
             H = self.integrand.hessian(v[pts], kind, pts).reshape(hi - lo, nq, 15, 15)
             upper[lo:hi] = self.element_matrices(H)[:, iu[0], iu[1]]
+
+        with one_blas_thread():  # BLAS threads inside the blocks' threads would fight over the cores
+            for_blocks(block, range(0, E, _BLOCK))
         return pat.matrix(pat.collect(upper))

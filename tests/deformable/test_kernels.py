@@ -84,3 +84,35 @@ def test_positive_part_of_a_2x2_matrix(m):
     ref = (U * np.maximum(lam, 0)) @ U.T
     got = kernels._positive_part_2x2(a, b, d)
     np.testing.assert_allclose(got, (ref[0, 0], ref[0, 1], ref[1, 1]), atol=1e-12)
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+@pytest.mark.parametrize("kind", ["newton", "definite"])
+def test_hessian_blocks_on_threads_give_the_serial_matrix_bit_for_bit(backend, kind, monkeypatch):
+    """The Hessian's blocks run on threads (deformable.integrand.for_blocks); each block writes rows of its own,
+    so the matrix is the serial one exactly, on both backends."""
+    from deformable import scenes
+    from validation.harness.backends import make_model
+
+    nodes = 20 if backend == "fd" else 9  # small grids, cut into small blocks below so that there are several
+    model = make_model(scenes.curtain(nodes=(nodes, nodes)), backend)
+    X = model.initial_state()
+    X = X + 1e-2 * np.sin(np.arange(X.size).reshape(X.shape))
+    monkeypatch.setattr("deformable.integrand._BLOCK", 64)
+    monkeypatch.setattr("femodel.energy._BLOCK", 4)
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    serial = model.energy_hessian(X, kind)
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")
+    threaded = model.energy_hessian(X, kind)
+    assert np.array_equal(serial.indptr, threaded.indptr) and np.array_equal(serial.indices, threaded.indices)
+    assert np.array_equal(serial.data, threaded.data)
+
+
+def test_hessian_threads_follow_omp_num_threads(monkeypatch):
+    """One thread where OMP_NUM_THREADS=1 (Dask's workers, the validation runner's), else the cores (at most 4)."""
+    from deformable.integrand import hessian_threads
+
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    assert hessian_threads() == 1
+    monkeypatch.delenv("OMP_NUM_THREADS")
+    assert 1 <= hessian_threads() <= 4
