@@ -499,6 +499,27 @@ class ContactPotential:
             K[points] += H
         return self.points.blocks(K)
 
+    def safe_start(self, x, dx) -> np.ndarray:
+        """A point between x and x + dx (flat) that keeps every contact point outside every obstacle.
+
+        Each degree of freedom moves the fraction of its own dx that the contact points it carries allow (the
+        smallest of theirs, :meth:`max_step` per point), and the result is clipped once more along its segment
+        from x (exact for interpolated points that mix moved and held degrees of freedom). Unlike one common
+        fraction for the whole sheet, a few points near an obstacle do not hold back the rest of it: where an
+        implicit step starts its search (measured on the ``sphere`` scene, FD 64 x 64: the common fraction was
+        0.26-0.49).
+        """
+        r, dr = self._positions(x), self._positions(dx)
+        keep = 1.0 - self.settings.margin
+        s = np.ones(r.shape[0])
+        for obstacle in self.obstacles:
+            s = np.minimum(s, obstacle.first_contact(r, dr, keep * obstacle.distance(r)))
+        W = self.points.W
+        fraction = np.ones(self.n)
+        np.minimum.at(fraction, W.indices, np.repeat(s, np.diff(W.indptr)))
+        step = (dx.reshape(3, self.n) * fraction).ravel()
+        return x + self.max_step(x, step) * step
+
     def max_step(self, x, dx) -> float:
         """The largest alpha in (0, 1] for which x + s dx keeps every contact point outside every obstacle.
 

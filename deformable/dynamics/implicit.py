@@ -154,7 +154,7 @@ class Implicit:
             start = fl.hold(xhat + (dt**2 if self.name == "implicit-euler" else 0.5 * dt**2) * flat(state.A), X0, t1)
         if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow
             fl.contact.lag(xn, dt)
-            start = fl.hold(xn + fl.max_step(xn, start - xn) * (start - xn), X0, t1)
+            start = fl.hold(fl.contact.safe_start(xn, start - xn), X0, t1)
         try:
             x, report = self.newton.minimise(phi, grad, start, cm, cc, label, None if D is None else cc * D, scale)
         except ConvergenceError as err:

@@ -116,6 +116,28 @@ def test_max_step_keeps_a_fraction_of_the_gap(backend):
     assert dm.clearance(model, model.initial_state()) == pytest.approx(0.01, abs=1e-15)
 
 
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_safe_start_holds_back_only_what_meets_the_obstacle(backend):
+    """A step's start (ContactPotential.safe_start): the half of the sheet sent through the floor stops above it,
+    the half sent sideways moves all the way (one common fraction would have held it at 0.8 % of its way)."""
+    model = make_model(drop_scene((6, 6), 0.01), backend)
+    pot = ct.ContactPotential(model)
+    X = model.initial_state()
+    x = flat(X)
+    values = np.asarray(model.value_dofs)
+    left = X[values, 0] < 0.3 * model.scene.sheet.size[0]
+    right = X[values, 0] > 0.7 * model.scene.sheet.size[0]
+    dx = np.zeros_like(x)
+    dx[2 * model.ndof + values[left]] = -1.0  # 1 m down, through the floor
+    dx[model.ndof + values[right]] = 0.5  # 0.5 m along y
+    start = pot.safe_start(x, dx)
+    moved = start.reshape(3, -1).T - X
+    assert dm.clearance(model, start.reshape(3, -1).T) > 0
+    assert np.all(moved[values[left], 2] < 0)  # the left part went down, as far as the floor lets it
+    assert np.allclose(moved[values[right]], [0.0, 0.5, 0.0], rtol=0, atol=1e-15)  # the right part all the way
+    assert pot.max_step(x, dx) == pytest.approx(0.008, rel=1e-12)
+
+
 @pytest.mark.parametrize("backend, nodes", [("fd", (8, 8)), ("fe", (4, 4))])
 def test_a_fast_drop_never_penetrates_not_even_in_a_trial_point(backend, nodes):
     """A sheet hitting the floor at 5 m/s: every potential evaluation of the line search sees a positive clearance."""
