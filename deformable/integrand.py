@@ -80,8 +80,11 @@ _BLOCK = 512
 
 
 def hessian_threads() -> int:
-    """Threads that assemble FD Hessians: the cores this process may use (at most 4), or OMP_NUM_THREADS where it
-    is set (1 on Dask's workers, which get a core each)."""
+    """Threads that assemble a Hessian (:func:`for_blocks`, both backends): the cores this process may use (at most
+    4), or OMP_NUM_THREADS where it is set (1 on Dask's workers and the validation runner's, a core each).
+
+    Measured inside Newton (two cores, OpenBLAS at one thread): FD 64 x 64 nodes 22 -> 14 ms a Hessian, FE 32 x 32
+    elements 44 -> 31 ms; bit-identical to one thread, each block writing rows of its own."""
     if os.environ.get("OMP_NUM_THREADS", "").isdigit():
         return max(1, int(os.environ["OMP_NUM_THREADS"]))
     return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
