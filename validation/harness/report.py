@@ -10,12 +10,16 @@ For a :class:`~validation.harness.study.StudyResult` ``res`` and an output folde
   configuration;
 - ``run.md`` and ``run.json``: what depends on the run rather than on the code
   (the wall time, package versions, the time of writing, and the study's
-  ``volatile`` tables and figures, e.g. CPU timings), so that running a study
-  again with the same code leaves summary.md, results.json and the CSVs as
-  they were;
+  ``volatile`` tables and figures and its ``run_findings``, e.g. CPU
+  timings), so that running a study again with the same code leaves
+  summary.md, results.json, the CSVs and the PNGs as they were;
 - ``<table>.csv`` for every table (full precision);
 - ``<figure>.png`` for every figure: log-log axes with labelled axes and
-  units, a legend and dashed reference-slope lines (~50-100 KB each).
+  units, a legend and dashed reference-slope lines (~50-100 KB each);
+- the volatile ones as ``run_<table>.csv`` and ``run_<figure>.png``: every
+  run-dependent file starts with ``run``, so that one ignore pattern keeps
+  them out of version control (the repository's .gitignore does, for
+  reports/).
 
 Nothing is written half-way: the folder is built under a temporary name next
 to its destination and renamed into place only when complete.
@@ -194,14 +198,19 @@ def _tables(tables) -> list[str]:
         out += [f"## {t.title}", ""]
         if t.note:
             out += [t.note, ""]
-        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{t.name}.csv]({t.name}.csv))", ""]
+        out += [markdown_table(t.columns, t.rows), "", f"(CSV: [{_file(t)}.csv]({_file(t)}.csv))", ""]
     return out
+
+
+def _file(item) -> str:
+    """The file stem of a table or figure: ``run_<name>`` for a volatile one (module docstring)."""
+    return f"run_{item.name}" if item.volatile else item.name
 
 
 def _figures(figures) -> list[str]:
     out = ["## Figures", ""] if figures else []
     for fig in figures:
-        out += [f"![{fig.caption}]({fig.name}.png)", "", f"*{fig.caption}*", ""]
+        out += [f"![{fig.caption}]({_file(fig)}.png)", "", f"*{fig.caption}*", ""]
     return out
 
 
@@ -229,6 +238,8 @@ def _run_page(res: StudyResult, ver: dict) -> str:
     out = [f"# Study `{res.study}`: this run", "",
            f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
     out += _tables([t for t in res.tables if t.volatile])
+    if res.run_findings:
+        out += ["## Findings of this run", ""] + [f"- {f}" for f in res.run_findings] + [""]
     out += _figures([f for f in res.figures if f.volatile])
     return "\n".join(out) + "\n"
 
@@ -247,17 +258,17 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
         volatile = {t.name for t in res.tables if t.volatile}
         run = {"wall_time": res.wall_time, "versions": ver,
                "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-               "tables": [t for t in payload["tables"] if t["name"] in volatile]}
+               "tables": [t for t in payload["tables"] if t["name"] in volatile], "findings": list(res.run_findings)}
         payload["tables"] = [t for t in payload["tables"] if t["name"] not in volatile]
         (tmp / "results.json").write_text(json.dumps(_clean(payload), indent=1, default=_json_default))
         (tmp / "run.json").write_text(json.dumps(_clean(run), indent=1, default=_json_default))
         for t in res.tables:
-            (tmp / f"{t.name}.csv").write_text(_csv(t))
+            (tmp / f"{_file(t)}.csv").write_text(_csv(t))
         for fig in res.figures:
             if fig.image is not None:  # drawn by the study itself
-                (tmp / f"{fig.name}.png").write_bytes(fig.image)
+                (tmp / f"{_file(fig)}.png").write_bytes(fig.image)
             else:
-                plot(fig, tmp / f"{fig.name}.png")
+                plot(fig, tmp / f"{_file(fig)}.png")
         os.chmod(tmp, 0o755)
         if final.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{res.study}-old-", dir=out))

@@ -61,8 +61,8 @@ class Table:
 
     ``rows`` hold numbers (written with full precision in the CSV, rounded in
     markdown) or strings. A ``volatile`` table holds what depends on the run
-    (timings): it goes to run.md, so that the committed summary.md does not
-    change when a study runs again.
+    (timings): it goes to run.md and ``run_<name>.csv``, so that the committed
+    summary.md, results.json and CSVs do not change when a study runs again.
     """
 
     name: str
@@ -112,7 +112,8 @@ class Figure:
 
     ``image``, when given, is a PNG the study drew itself (a render, a map):
     the report writer stores those bytes instead of plotting ``panels``. A
-    ``volatile`` figure shows what depends on the run (timings): run.md.
+    ``volatile`` figure shows what depends on the run (timings): run.md and
+    ``run_<name>.png``.
     """
 
     name: str
@@ -134,6 +135,8 @@ class StudyResult:
     tables, checks, figures : lists
     findings : list of str
         Observations outside the checked theory, each with its explanation.
+    run_findings : list of str
+        Findings that depend on the run (timings): written to run.md and run.json, like volatile tables.
     data : dict
         All the numbers (JSON-serialisable after numpy conversion).
     """
@@ -145,6 +148,7 @@ class StudyResult:
     checks: list[Check] = field(default_factory=list)
     figures: list[Figure] = field(default_factory=list)
     findings: list[str] = field(default_factory=list)
+    run_findings: list[str] = field(default_factory=list)
     data: dict = field(default_factory=dict)
     wall_time: float = 0.0
 

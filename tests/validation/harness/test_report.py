@@ -75,12 +75,35 @@ def test_run_dependent_tables_go_to_run_md_and_a_rerun_leaves_the_summary_as_it_
     folder = write_study(res, tmp_path)
     first = {name: (folder / name).read_bytes() for name in ("summary.md", "results.json", "numbers.csv")}
     assert "CPU times" not in first["summary.md"].decode() and b"timings" not in first["results.json"]
-    assert "CPU times" in (folder / "run.md").read_text() and (folder / "timings.csv").is_file()
+    assert "CPU times" in (folder / "run.md").read_text() and (folder / "run_timings.csv").is_file()
     assert json.loads((folder / "run.json").read_text())["tables"][0]["name"] == "timings"
     res.wall_time = 2.0
     write_study(res, tmp_path)
     assert all((folder / name).read_bytes() == text for name, text in first.items())
     assert "Wall time 2.0 s" in (folder / "run.md").read_text()
+
+
+def test_every_run_dependent_file_starts_with_run_and_a_rerun_changes_no_other(tmp_path):
+    """Volatile tables and figures, and run findings, go to run.md, run.json, run_*.csv and run_*.png only: a rerun
+    with other timings leaves every other file byte for byte (reports/ ignores run* in version control)."""
+    def result(cpu):
+        res = synthetic()
+        res.tables.append(Table("timings", "CPU times", ("solve", "CPU (s)"), [("a", cpu)], volatile=True))
+        res.figures.append(Figure("speed", "CPU time", (Panel("p", "n", "CPU time (s)", (Line("a", (1, 2), (cpu, 2 * cpu)),)),),
+                                  volatile=True))
+        res.run_findings.append(f"the solve took {cpu:g} s")
+        res.wall_time = cpu
+        return res
+
+    folder = write_study(result(0.3137), tmp_path)
+    first = {p.name: p.read_bytes() for p in folder.iterdir()}
+    assert {"run_timings.csv", "run_speed.png"} <= set(first)
+    assert "the solve took 0.3137 s" in (folder / "run.md").read_text()
+    assert json.loads(first["run.json"])["findings"] == ["the solve took 0.3137 s"]
+    assert b"0.3137" not in first["results.json"] and "took" not in first["summary.md"].decode()
+    write_study(result(0.6271), tmp_path)
+    changed = sorted(p.name for p in folder.iterdir() if p.read_bytes() != first.get(p.name))
+    assert changed and all(name.startswith("run") for name in changed)
 
 
 def test_nothing_is_written_half_way(tmp_path):
