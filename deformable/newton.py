@@ -104,6 +104,7 @@ class NewtonReport:
     scale: float = 0.0  # the residual rtol is relative to (N)
     tolerance: float = 0.0  # the residual the solve had to reach (N)
     factorisations: int = 0
+    fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
     seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
 
 
@@ -334,6 +335,7 @@ class Newton:
                 return
             except SingularMatrix:  # indefinite (compression, or bending away from the rest state): make it definite
                 report.seconds["factor"] += time.perf_counter() - t0
+                report.fallbacks += 1
             self._factor(self.newton_matrix(x, cm, cc, report, "definite"), report)
             return
         self._factor(self.newton_matrix(x, cm, cc, report), report)

@@ -102,6 +102,7 @@ def test_auto_uses_the_exact_hessian_where_it_is_definite_and_the_definite_one_e
     x, report = newton.minimise(p.phi, p.grad, np.array([0.0, 0.1]), label="test")
     assert report.converged and abs(x[1] - 1.0) < 1e-10
     assert "definite" in p.hessians and p.hessians[-1] == "newton"
+    assert report.fallbacks == p.hessians.count("definite") >= 1  # each one counted in the report
 
 
 def test_full_newton_steps_may_raise_the_potential_for_a_while_then_the_watchdog_steps_back():

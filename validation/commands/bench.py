@@ -25,6 +25,14 @@ own Newton matrix with the same solver, and the ratio of the step to the
 semi-implicit step of the same scene and grid under the paper's force (at its
 own stable dt). FD rows are given in nodes a side, FE rows in elements a side.
 
+Scene rows (opt-in: ``--scenes``). Shipped scenes as they ship (the
+energy-consistent model, implicit Euler at the scene's dt) run for ``--scene-time`` seconds
+of motion from their initial state on FD ``--scene-fd`` nodes and FE
+``--scene-fe`` elements a side: the wall time, steps, Newton iterations,
+factorisations and definite fallbacks per step. They measure what the 2 s
+budgets of the scenes and the iterations per step of a whole run are about,
+where the implicit rows time a few steps.
+
 Contact rows (issue 14). The ``sphere`` scene with the cloth starting half
 the barrier's activation distance above the ball (in contact from the first
 step), stepped K times after one warm-up step, against the same scene and
@@ -37,6 +45,7 @@ from __future__ import annotations
 
 import csv
 import logging
+import math
 import multiprocessing as mp
 import resource
 import time
@@ -53,9 +62,11 @@ from deformable.errors import InputError
 from deformable.linalg import make_solver
 from deformable.newton import flat
 from validation.harness.backends import make_model
+from validation.harness.report import markdown_table
 
 __all__ = ["configure", "execute", "BenchRow", "ImplicitRow", "ContactRow", "bench_one", "bench_implicit",
-           "bench_contact", "format_table", "format_implicit", "format_contact"]
+           "bench_contact", "format_table", "format_implicit", "format_contact", "SceneRow", "bench_scene",
+           "format_scenes"]
 
 log = logging.getLogger(__name__)
 #: the semi-implicit rows' dt (s), where the backend's half stable step is not smaller
@@ -76,9 +87,17 @@ def configure(parser) -> None:
                         "(default: 64); '' for none")
     parser.add_argument("--contact-fe", default="", metavar="N,...",
                         help="contact rows, FE: elements a side (default: none)")
+    parser.add_argument("--scenes", default="", metavar="NAME,...",
+                        help="scene rows: shipped scenes run for --scene-time s, e.g. curtain,flag (default: none)")
+    parser.add_argument("--scene-fd", default="64", metavar="N,...",
+                        help="scene rows, FD: nodes a side (default: 64); '' for none")
+    parser.add_argument("--scene-fe", default="32", metavar="N,...",
+                        help="scene rows, FE: elements a side (default: 32); '' for none")
+    parser.add_argument("--scene-time", default="2", metavar="T",
+                        help="scene rows: seconds of motion (default: 2)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
-    parser.add_argument("--out", default=None, help="folder for bench.csv and bench_implicit.csv "
-                        "(default: reports/bench)")
+    parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv "
+                        "and bench_scenes.csv (default: reports/bench)")
 
 
 def _peak_memory() -> float:
@@ -186,15 +205,12 @@ def bench_one(backend: str, n: int, steps: int, solver: str = "auto") -> BenchRo
 
 def format_table(rows) -> str:
     """A markdown table of semi-implicit rows (times in ms)."""
-    head = ("| backend | grid | ndof | free | solver | assembly ms | factorisation ms | solve ms | step ms "
-            "| splu factor ms | splu solve ms | step / (factor+solve) | step / same with its solver | peak MB |")
-    lines = [head, "|" + "---|" * 14]
-    for r in rows:
-        lines.append(f"| {r.backend} | {r.nodes} | {r.ndof} | {r.free} | {r.solver} | {1e3 * r.assembly:.2f} | "
-                     f"{1e3 * r.factorisation:.2f} | {1e3 * r.solve:.2f} | {1e3 * r.step:.2f} | "
-                     f"{1e3 * r.direct_factor:.2f} | {1e3 * r.direct_solve:.2f} | {r.ratio:.2f} "
-                     f"| {r.same_ratio:.2f} | {r.peak_mb:.0f} |")
-    return "\n".join(lines)
+    return markdown_table(
+        ("backend", "grid", "ndof", "free", "solver", "assembly ms", "factorisation ms", "solve ms", "step ms",
+         "splu factor ms", "splu solve ms", "step / (factor+solve)", "step / same with its solver", "peak MB"),
+        [(r.backend, r.nodes, r.ndof, r.free, r.solver, *(f"{1e3 * t:.2f}" for t in (
+            r.assembly, r.factorisation, r.solve, r.step, r.direct_factor, r.direct_solve)),
+          f"{r.ratio:.2f}", f"{r.same_ratio:.2f}", f"{r.peak_mb:.0f}") for r in rows])
 
 
 # -- implicit rows -----------------------------------------------------------------------
@@ -261,15 +277,68 @@ def bench_implicit(backend: str, n: int, steps: int, solver: str = "auto") -> Im
 
 def format_implicit(rows) -> str:
     """A markdown table of implicit rows (times in ms)."""
-    lines = ["| backend | grid | unknowns | solver | Newton iterations / step | factorisations / step | step ms "
-             "| ms / iteration | factor+solve ms | iteration / (factor+solve) | step / semi-implicit step "
-             "| peak MB |", "|" + "---|" * 12]
-    for r in rows:
-        lines.append(f"| {r.backend} | {r.grid}{' nodes' if r.backend == 'fd' else ' el.'} | {r.unknowns} | "
-                     f"{r.solver} | {r.newton_per_step:.2f} | {r.factorisations_per_step:.2f} | {1e3 * r.step:.1f} | "
-                     f"{1e3 * r.per_iteration:.1f} | {1e3 * (r.factor + r.solve):.1f} | {r.iteration_ratio:.2f} | "
-                     f"{r.step_ratio:.1f} | {r.peak_mb:.0f} |")
-    return "\n".join(lines)
+    return markdown_table(
+        ("backend", "grid", "unknowns", "solver", "Newton iterations / step", "factorisations / step", "step ms",
+         "ms / iteration", "factor+solve ms", "iteration / (factor+solve)", "step / semi-implicit step", "peak MB"),
+        [(r.backend, _grid(r), r.unknowns, r.solver, f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
+          f"{1e3 * r.step:.1f}", f"{1e3 * r.per_iteration:.1f}", f"{1e3 * (r.factor + r.solve):.1f}",
+          f"{r.iteration_ratio:.2f}", f"{r.step_ratio:.1f}", f"{r.peak_mb:.0f}") for r in rows])
+
+
+def _grid(r) -> str:
+    """A row's grid with its unit: nodes a side (FD) or elements a side (FE)."""
+    return f"{r.grid}{' nodes' if r.backend == 'fd' else ' el.'}"
+
+
+# -- scene rows --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SceneRow:
+    """One scene line: a shipped scene run from its initial state; times in seconds, memory in MB."""
+
+    scene: str
+    backend: str
+    grid: str
+    unknowns: int
+    dt: float
+    t_end: float
+    status: str
+    t_reached: float
+    steps: int
+    wall: float
+    newton_per_step: float
+    factorisations_per_step: float
+    fallbacks_per_step: float
+    peak_mb: float
+
+
+def bench_scene(scene: str, backend: str, n: int, t_end: float, solver: str = "auto") -> SceneRow:
+    """Run a shipped scene (energy-consistent, implicit Euler at its own dt, as every scene ships) for t_end seconds
+    on n nodes (FD) or n elements (FE) a side."""
+    nodes = n if backend == "fd" else n + 1
+    cfg = scenes.config(scene, nodes=(nodes, nodes))
+    model = make_model(scenes.build(cfg), backend)
+    stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
+    t0 = time.perf_counter()
+    result = stepper.run(model.initial_state(), t_end=t_end)
+    wall = time.perf_counter() - t0
+    reports = stepper.newton_reports
+
+    def per_step(name):
+        return float(np.mean([getattr(r, name) for r in reports]))
+
+    return SceneRow(scene, backend, f"{n}x{n}", 3 * model.ndof, cfg.dt, t_end, result.status, result.state.t,
+                    result.steps, wall, per_step("iterations"), per_step("factorisations"), per_step("fallbacks"),
+                    _peak_memory())
+
+
+def format_scenes(rows) -> str:
+    """A markdown table of scene rows."""
+    return markdown_table(
+        ("scene", "backend", "grid", "unknowns", "dt (ms)", "status", "t reached (s)", "steps", "wall (s)",
+         "Newton / step", "factorisations / step", "definite fallbacks / step", "peak MB"),
+        [(r.scene, r.backend, _grid(r), r.unknowns, f"{1e3 * r.dt:g}", r.status, f"{r.t_reached:g}", r.steps,
+          f"{r.wall:.1f}", f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
+          f"{r.fallbacks_per_step:.2f}", f"{r.peak_mb:.0f}") for r in rows])
 
 
 # -- contact rows ------------------------------------------------------------------------
@@ -329,13 +398,12 @@ def bench_contact(backend: str, n: int, steps: int, solver: str = "auto") -> Con
 
 def format_contact(rows) -> str:
     """A markdown table of contact rows (times in ms)."""
-    lines = ["| backend | grid | unknowns | contact points | Newton / step, ball | Newton / step, none | step ms, ball "
-             "| step ms, none | step ratio | iteration ratio | peak MB |", "|" + "---|" * 11]
-    for r in rows:
-        lines.append(f"| {r.backend} | {r.grid}{' nodes' if r.backend == 'fd' else ' el.'} | {r.unknowns} | "
-                     f"{r.contact_points} | {r.newton_contact:.2f} | {r.newton_free:.2f} | {1e3 * r.step_contact:.1f} "
-                     f"| {1e3 * r.step_free:.1f} | {r.step_ratio:.2f} | {r.iteration_ratio:.2f} | {r.peak_mb:.0f} |")
-    return "\n".join(lines)
+    return markdown_table(
+        ("backend", "grid", "unknowns", "contact points", "Newton / step, ball", "Newton / step, none",
+         "step ms, ball", "step ms, none", "step ratio", "iteration ratio", "peak MB"),
+        [(r.backend, _grid(r), r.unknowns, r.contact_points, f"{r.newton_contact:.2f}", f"{r.newton_free:.2f}",
+          f"{1e3 * r.step_contact:.1f}", f"{1e3 * r.step_free:.1f}", f"{r.step_ratio:.2f}",
+          f"{r.iteration_ratio:.2f}", f"{r.peak_mb:.0f}") for r in rows])
 
 
 # -- the command -------------------------------------------------------------------------
@@ -366,7 +434,19 @@ def _parse(args):
     if steps < 1:
         raise InputError(f"--steps must be a positive integer, got {args.steps!r}")
     make_solver(args.solver)  # a bad or missing solver is refused before any work
-    return backends, sizes, implicit, contact, steps
+    names = [name.strip() for name in str(args.scenes).split(",") if name.strip()]
+    for name in names:
+        if name not in scenes.SCENES:
+            raise InputError(f"--scenes: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
+    try:
+        t_end = float(args.scene_time)
+    except ValueError:
+        t_end = math.nan
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"--scene-time must be a positive number of seconds, got {args.scene_time!r}")
+    scene_grids = {"fd": _sizes(args.scene_fd, "--scene-fd", allow_empty=True),
+                   "fe": _sizes(args.scene_fe, "--scene-fe", allow_empty=True)}
+    return backends, sizes, implicit, contact, steps, (names, scene_grids, t_end)
 
 
 def _write(path: Path, rows, extra=()) -> None:
@@ -381,7 +461,7 @@ def execute(args) -> int:
     """``deformable bench``: print the tables and write bench.csv and bench_implicit.csv."""
     from validation.harness.report import writable_folder
 
-    backends, sizes, implicit, contact, steps = _parse(args)
+    backends, sizes, implicit, contact, steps, (names, scene_grids, t_end) = _parse(args)
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
     rows = [_in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
     print(format_table(rows))
@@ -400,4 +480,13 @@ def execute(args) -> int:
         _write(out / "bench_contact.csv", crows, [("step_ratio", lambda r: r.step_ratio),
                                                    ("iteration_ratio", lambda r: r.iteration_ratio)])
         print(f"wrote {out / 'bench_contact.csv'}")
+    jobs = [(name, b, n) for name in names for b in backends for n in scene_grids[b]]
+    srows = []
+    for k, (name, b, n) in enumerate(jobs, 1):  # minutes each: say which one runs
+        print(f"scene {k} of {len(jobs)}: {name} {b} {n}x{n}, {t_end:g} s of motion", flush=True)
+        srows.append(_in_own_process(bench_scene, name, b, n, t_end, args.solver))
+    if srows:
+        print(format_scenes(srows))
+        _write(out / "bench_scenes.csv", srows)
+        print(f"wrote {out / 'bench_scenes.csv'}")
     return 0

@@ -44,6 +44,24 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert "step ms, ball" in out
 
 
+def test_scene_rows_run_shipped_scenes_for_their_time(tmp_path, capsys):
+    """Opt-in scene rows: each shipped scene as it ships, on each backend, with Newton's counts per step."""
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "", "--contact-fd", "",
+                 "--backend", "all", "--scenes", "curtain,hanging", "--scene-fd", "6", "--scene-fe", "3",
+                 "--scene-time", "0.02", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "scene 1 of 4: curtain fd 6x6" in out and "definite fallbacks / step" in out
+    with (tmp_path / "bench_scenes.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert [(r["scene"], r["backend"], r["grid"]) for r in rows] == [
+        ("curtain", "fd", "6x6"), ("curtain", "fe", "3x3"), ("hanging", "fd", "6x6"), ("hanging", "fe", "3x3")]
+    for r in rows:
+        assert r["status"] == "finished" and float(r["t_reached"]) == pytest.approx(0.02)
+        assert int(r["steps"]) >= 1 and float(r["wall"]) > 0
+        newton, fallbacks = float(r["newton_per_step"]), float(r["fallbacks_per_step"])
+        assert newton >= 1 and float(r["factorisations_per_step"]) >= 1 and 0 <= fallbacks <= newton
+
+
 @pytest.mark.parametrize("backend", ["fd", "fe"])
 def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     """The bench's hanging scene at its dt runs 200 guarded steps without divergence. FE's bound is about a
@@ -65,6 +83,9 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
     (["--contact-fd", "z"], "--contact-fd must be comma-separated integers"),
     (["--solver", "mumps"], "solver must be one of"),
+    (["--scenes", "curtain,drapes"], "--scenes: unknown scene 'drapes'"),
+    (["--scenes", "flag", "--scene-time", "-2"], "--scene-time must be a positive number of seconds"),
+    (["--scenes", "flag", "--scene-fe", "2"], "--scene-fe needs grid sizes of at least 3"),
 ])
 def test_bench_bad_input(argv, message, tmp_path, capsys):
     assert main(["bench", *argv, "--out", str(tmp_path / "o")]) == 2
