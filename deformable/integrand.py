@@ -95,6 +95,10 @@ def _pool(threads: int) -> concurrent.futures.ThreadPoolExecutor:
     return concurrent.futures.ThreadPoolExecutor(threads, thread_name_prefix="deformable-hessian")
 
 
+if hasattr(os, "register_at_fork"):  # a forked child has none of the parent's threads: it makes a pool of its own
+    os.register_at_fork(after_in_child=_pool.cache_clear)
+
+
 def for_blocks(work, starts, parallel: bool = True) -> None:
     """``work(lo)`` for every block start, on :func:`hessian_threads` threads when ``parallel`` (the blocks must
     write disjoint parts of their output; the compiled kernels and BLAS release the GIL), else in turn."""

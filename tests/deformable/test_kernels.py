@@ -116,3 +116,31 @@ def test_hessian_threads_follow_omp_num_threads(monkeypatch):
     assert hessian_threads() == 1
     monkeypatch.delenv("OMP_NUM_THREADS")
     assert 1 <= hessian_threads() <= 4
+
+
+def test_a_forked_child_assembles_hessians_on_threads_of_its_own():
+    """The parent's Hessian threads do not exist in a forked child (multiprocessing's fork, the bench's rows): the
+    child makes its own pool instead of waiting forever on the parent's."""
+    import multiprocessing as mp
+
+    from deformable import scenes
+    from validation.harness.backends import make_model
+
+    model = make_model(scenes.curtain(nodes=(24, 24)), "fd")
+    X = model.initial_state()
+    expected = model.energy_hessian(X)  # the pool now exists in this process
+    _FORKED["case"] = (model, X)  # inherited by the child (a scene's closures do not pickle)
+    try:
+        with mp.get_context("fork").Pool(1) as pool:
+            data = pool.apply_async(_hessian_data).get(timeout=120)
+    finally:
+        _FORKED.clear()
+    assert np.array_equal(data, expected.data)
+
+
+_FORKED: dict = {}
+
+
+def _hessian_data():
+    model, X = _FORKED["case"]
+    return model.energy_hessian(X).data
