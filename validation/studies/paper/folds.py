@@ -196,11 +196,17 @@ def measure(res, R: dict, s: dict) -> list:
 
     - the runs finish bounded (the measurements stand on them);
     - the fold count against xi: the least-squares exponent of ``count = c xi^p`` within
-      :data:`EXPONENT_WINDOW` around the theory's -1/4. The window: over the sweep's two decades of xi, one
-      fold more or fewer at either end of a count of 2 to 8 moves the fitted slope by up to about
-      ``log(3/2) / log(100) = 0.09`` each; the window allows a little more than one such fold at each end;
-    - never a fold narrower than :data:`NARROWEST` grid spacings (every snapshot, every row);
-    - FD and FE counts agree within max(1, :data:`COUNT_TOLERANCE` of the larger);
+      :data:`EXPONENT_WINDOW` around the theory's -1/4. The window: over two decades of xi (the full sweep),
+      one fold more or fewer at either end of a count of 2 to 8 moves the fitted slope by up to about
+      ``log(3/2) / log(100) = 0.09`` each; the window allows a little more than one such fold at each end.
+      Over the quick sweep's one decade the counts are 1 to 3 and one fold moves the slope by up to
+      ``log(2) / log(10) = 0.3``: there the check asks only that the count falls by about the theory's
+      ``10^(1/4) = 1.8`` over the decade (2 to 1 passes; 3 to 1, or no change, fails);
+    - the curtain's sweep: never a fold narrower than :data:`NARROWEST` grid spacings (every snapshot, every
+      row), and FD and FE counts agree within max(1, :data:`COUNT_TOLERANCE` of the larger). The sweep runs on
+      its own grids (``folds``: FD 64, FE 32 el. at the quick level) over the xi they resolve; curtain-silky
+      and paper (bending lengths 0.028 and 0.056 m) and the curtain as it ships (xi = 1e-5, FD 32 / FE 16 el.)
+      are below what their grids resolve: their counts and narrowest folds are tabled and stated, not checked;
     - paper against curtain-silky: the ratio of fold wavelengths within ``16^p`` for p in the exponent window
       (1.39 to 3.03 around the theory's 2), the same tolerance on the same law.
 
@@ -216,17 +222,19 @@ def measure(res, R: dict, s: dict) -> list:
     from .pictures import panels_figure
 
     def grid(b):
-        n = dict(zip(BACKENDS, s["s5"]))[b]
+        n = dict(zip(BACKENDS, s["folds"]))[b]
         return f"FD {n}x{n} nodes" if b == "fd" else f"FE {n - 1}x{n - 1} el."
 
     keys = [k for k in R if k[0] == "folds"]
-    F = {k: run_folds(R[k]) for k in keys}
+    shipped = [k for k in R if k[0] == "shipped"]  # the curtain as it ships: tabled, not in the sweep
+    F = {k: run_folds(R[k]) for k in keys + shipped}
     rows = []
-    for k in keys:
-        _, sc, b, fm, xi = k
+    for k in keys + shipped:
+        role, sc, b, fm, xi = k
         r, f = R[k], F[k]
-        n = dict(zip(BACKENDS, s["silky"] if sc != "curtain" else s["s5"]))[b]
-        rows.append((sc, b.upper(), n if b == "fd" else f"{n - 1} el.", fm, xi, classify(r), r["t"], f["count"],
+        n = dict(zip(BACKENDS, s["silky"] if sc != "curtain" else s["folds"] if role == "folds" else s["s5"]))[b]
+        rows.append((sc if role == "folds" else f"{sc} (as shipped)", b.upper(), n if b == "fd" else f"{n - 1} el.",
+                     fm, xi, classify(r), r["t"], f["count"],
                      f["width"], f["width_h"], f["narrowest_h"], f["ever_narrowest_h"], f["below"], *f["below_at"],
                      f["wavelength"], f["theory"],
                      f["prefactor"], f["depth"]))
@@ -272,22 +280,34 @@ def measure(res, R: dict, s: dict) -> list:
                   f"({len(xis)} values of xi, {grid(b)})",
                   f"p = {p:.3f} (counts {', '.join(format(f['count'], 'g') for _, f in sweep[b])}); lambda ~ xi^{pw:.3f}",
                   len(xis) >= 3 and np.isfinite(p) and lo <= p <= hi)
+    swept = {k: f for k, f in var.items() if k[1] == "curtain"}
     res.check_all(f"section 5, curtain folds: never narrower than {NARROWEST:g} grid spacings",
-                  f"in every snapshot (each {SAMPLE_EVERY:g} s) and row, consecutive extrema at least {NARROWEST:g} h "
-                  "apart", {f"{k[1]} {k[2].upper()} xi = {k[4]:g} ({F[k]['ever_narrowest_h']:.1f} h; below "
-                            f"{NARROWEST:g} h in {F[k]['below']} of {len(F[k]['series'])} snapshots, at a1 = "
-                            f"{F[k]['below_at'][0]:.2f} to {F[k]['below_at'][1]:.2f} m)":
-                            F[k]["ever_narrowest_h"] >= NARROWEST for k in var})
+                  f"in every snapshot (each {SAMPLE_EVERY:g} s) and row of the curtain's sweep, consecutive extrema at "
+                  f"least {NARROWEST:g} h apart",
+                  {f"{k[1]} {k[2].upper()} xi = {k[4]:g} ({F[k]['ever_narrowest_h']:.1f} h; below "
+                   f"{NARROWEST:g} h in {F[k]['below']} of {len(F[k]['series'])} snapshots, at a1 = "
+                   f"{F[k]['below_at'][0]:.2f} to {F[k]['below_at'][1]:.2f} m)":
+                   F[k]["ever_narrowest_h"] >= NARROWEST for k in swept})
+    unresolved = [k for k in [*var, *shipped] if k not in swept and k[3] == "variational"]
+    res.findings.append(
+        "Section 5, folds narrower than the grid resolves (tabled, not checked): "
+        + "; ".join(f"{k[1]}{' as shipped' if k[0] == 'shipped' else ''} {k[2].upper()} xi = {k[4]:g}: "
+                    f"{F[k]['count']:g} folds, narrowest {F[k]['ever_narrowest_h']:.1f} h, bending length "
+                    f"{F[k]['theory']:.3f} m = {F[k]['theory'] / R[k]['h']:.1f} h"
+                    for k in sorted(unresolved))
+        + ". docs/design.md (Findings) has the curtain's counts under refinement: FD's converges from above to "
+        "FE's where both resolve the folds.")
     agree = {}
-    for k in var:
+    for k in swept:
         if k[2] != "fd":
             continue
         other = ("folds", k[1], "fe", k[3], k[4])
-        if other in var:
-            nd, ne = var[k]["count"], var[other]["count"]
+        if other in swept:
+            nd, ne = swept[k]["count"], swept[other]["count"]
             agree[f"{k[1]} xi = {k[4]:g} (FD {nd:g}, FE {ne:g})"] = abs(nd - ne) <= max(1.0, COUNT_TOLERANCE * max(nd, ne))
     res.check_all("section 5, curtain folds: FD and FE fold counts agree",
-                  f"late fold counts within max(1, {COUNT_TOLERANCE:.0%} of the larger) for each scene and xi", agree)
+                  f"late fold counts within max(1, {COUNT_TOLERANCE:.0%} of the larger) for each xi of the curtain's "
+                  "sweep", agree)
     ratio, expected = {}, {}
     for b in BACKENDS:
         silky = var.get(("folds", "curtain-silky", b, "variational", scenes.config("curtain-silky").xi))

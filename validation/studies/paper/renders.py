@@ -37,10 +37,12 @@ PICTURES = tuple((sc.replace("-", "_"), sc, "variational", f"{figs}: `{sc}`") fo
 
 
 def picture_runs(R: dict, scene: str, force_model: str = "variational") -> dict:
-    """The runs of a scene that carry its frames, by backend (the scene's own xi; the flag's runs)."""
+    """The runs of a scene that carry its frames, by backend (the scene's own xi; the flag's runs; the curtain as
+    it ships, not its xi sweep)."""
     if scene == "flag":
         return {b: R[("flag", b, force_model)] for b in BACKENDS}
-    return {b: R[("folds", scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
+    role = "shipped" if scene == "curtain" else "folds"
+    return {b: R[(role, scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
 
 
 def _grid(b: str, n: int) -> str:
