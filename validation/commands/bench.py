@@ -26,12 +26,13 @@ semi-implicit step of the same scene and grid under the paper's force (at its
 own stable dt). FD rows are given in nodes a side, FE rows in elements a side.
 
 Scene rows (opt-in: ``--scenes``). Shipped scenes as they ship (the
-energy-consistent model, implicit Euler at the scene's dt) run for ``--scene-time`` seconds
-of motion from their initial state on FD ``--scene-fd`` nodes and FE
-``--scene-fe`` elements a side: the wall time, steps, Newton iterations,
-factorisations and definite fallbacks per step. They measure what the 2 s
-budgets of the scenes and the iterations per step of a whole run are about,
-where the implicit rows time a few steps.
+energy-consistent model, implicit Euler at the scene's dt) run for
+``--scene-time`` seconds of motion from their initial state on FD
+``--scene-fd`` nodes and FE ``--scene-fe`` elements a side: the wall time,
+steps, Newton iterations, factorisations and definite fallbacks per step
+(unknowns: every degree of freedom, held ones too, as in the contact rows).
+They measure what the 2 s budgets of the scenes and the iterations per step
+of a whole run are about, where the implicit rows time a few steps.
 
 Contact rows (issue 14). The ``sphere`` scene with the cloth starting half
 the barrier's activation distance above the ball (in contact from the first
