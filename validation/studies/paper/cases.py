@@ -22,7 +22,7 @@ from validation.harness.surfaces import cylinder
 
 from . import damping, folds
 
-__all__ = ["Case", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
+__all__ = ["Case", "grid_label", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
            "VISIBLE",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
            "FOLD_SCENES", "scene_cases", "shipped_dt"]
@@ -191,6 +191,11 @@ def _run_scene(case: Case) -> dict:
         out["upper_B"] = _upper_mean_B(model, X, cfg.size[1])
         out["rail"] = float(np.ptp(final[:, -1, 0]) / cfg.size[0])
     return out
+
+
+def grid_label(backend: str, nodes: int) -> str:
+    """A section-5 grid as the reports name it: "FD 32x32 nodes", or "FE 16x16 el." for 17 nodes a side."""
+    return f"FD {nodes}x{nodes} nodes" if backend == "fd" else f"FE {nodes - 1}x{nodes - 1} el."
 
 
 def shipped_dt(cfg, model) -> float:

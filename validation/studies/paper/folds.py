@@ -218,12 +218,12 @@ def measure(res, R: dict, s: dict) -> list:
     from validation.harness.study import Table
 
     from .analysis import classify
+    from .cases import grid_label
     from .claims import Claim, checks_of
     from .pictures import panels_figure
 
     def grid(b):
-        n = dict(zip(BACKENDS, s["folds"]))[b]
-        return f"FD {n}x{n} nodes" if b == "fd" else f"FE {n - 1}x{n - 1} el."
+        return grid_label(b, dict(zip(BACKENDS, s["folds"]))[b])
 
     keys = [k for k in R if k[0] == "folds"]
     shipped = [k for k in R if k[0] == "shipped"]  # the curtain as it ships: tabled, not in the sweep

@@ -23,7 +23,7 @@ from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 
 from .analysis import classify
-from .cases import RENDERS
+from .cases import RENDERS, grid_label
 from .claims import Claim, checks_of
 from .pictures import render
 
@@ -45,10 +45,6 @@ def picture_runs(R: dict, scene: str, force_model: str = "variational") -> dict:
     return {b: R[(role, scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
 
 
-def _grid(b: str, n: int) -> str:
-    return f"FD {n}x{n} nodes" if b == "fd" else f"FE {n - 1}x{n - 1} el."
-
-
 def decorations(scene: str) -> list:
     """The rod a curtain hangs from, or the flag's pole, as segments ((x, y, z), (x, y, z)) in the scene's
     coordinates (m); none for ``hanging``."""
@@ -66,7 +62,7 @@ def scene_picture(R: dict, scene: str, nodes: dict, force_model: str = "variatio
     frames = []
     for b in BACKENDS:
         r = runs[b]
-        frames.append([(f"{_grid(b, nodes[b])}, t = {t:g} s", pts) for t, pts in sorted(r["renders"].items())])
+        frames.append([(f"{grid_label(b, nodes[b])}, t = {t:g} s", pts) for t, pts in sorted(r["renders"].items())])
     return render([row for row in frames if row], size=(300, 280), lines=decorations(scene))
 
 
@@ -78,7 +74,7 @@ def measure(res, R, s) -> list[Claim]:
         runs = picture_runs(R, sc, fm)
         for b in BACKENDS:
             r = runs[b]
-            rows.append((sc, fm, b.upper(), _grid(b, nodes[b]), classify(r), r["t"], r["Gmax"]))
+            rows.append((sc, fm, b.upper(), grid_label(b, nodes[b]), classify(r), r["t"], r["Gmax"]))
         try:
             png = scene_picture(R, sc, nodes, fm)
         except Exception as err:  # no OpenGL: the study's numbers still stand
