@@ -240,11 +240,9 @@ def make_solver(solver: str = "auto", definite: bool = False):
 
 @functools.lru_cache(maxsize=1)
 def _openblas():
-    """threadpoolctl's handle on numpy's OpenBLAS, or None (no threadpoolctl, or another BLAS)."""
-    try:
-        from threadpoolctl import ThreadpoolController
-    except ImportError:
-        return None
+    """threadpoolctl's handle on numpy's OpenBLAS, or None where numpy's BLAS is another one."""
+    from threadpoolctl import ThreadpoolController
+
     chosen = ThreadpoolController().select(internal_api="openblas")
     return chosen if chosen.lib_controllers else None
 
