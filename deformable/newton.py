@@ -41,7 +41,10 @@ share: the model's energy over flat coordinate-blocked vectors
   constrained optimization"): full Newton steps are taken even when Phi
   grows, for at most :data:`WATCHDOG` steps in a row; if none of them brings
   a sufficient (Armijo) decrease against the last good point, the search goes
-  back to that point and backtracks along its direction. Newton's method keeps
+  back to that point and backtracks along its direction. Phi is evaluated
+  only to weigh a step: a full step whose residual meets the tolerance ends
+  the solve without it (measured on the curtain, FD 24 x 24 nodes, 40 steps:
+  1.05 evaluations of Phi a step against 2.5, the same iterates). Newton's method keeps
   its quadratic convergence through the nonconvex stretches of elastica-like
   problems (measured: 16-19 iterations for a cantilever bent to P L^2/EI = 4
   from flat), where a backtracking search under a bound on the step took 65-70.
@@ -393,7 +396,7 @@ class Newton:
         if r0 <= target:
             report.converged = True
             return x, report
-        ref = None  # the watchdog's reference: (x, phi, direction, slope) at the last point of sufficient decrease
+        ref = None  # the watchdog's reference: [x, phi or None, direction, slope] at the last point of sufficient decrease
         fx = None  # phi at x, when known
         relaxed = WATCHDOG
         for it in range(1, s.max_iter + 1):
@@ -415,27 +418,34 @@ class Newton:
                 dx[free] = d
                 alpha = p.max_step(x, dx)
                 d, slope = alpha * d, alpha * slope
-            if ref is None:
-                ref = (x, phi(x) if fx is None else fx, d, slope)
-            xt = None
+            if ref is None:  # phi there is evaluated when a step is first weighed against it
+                ref = [x, fx, d, slope]
+            xt = gt = None
             if relaxed > 0:  # a full Newton step, kept even if phi grows, for at most WATCHDOG steps in a row
                 xt = x.copy()
                 xt[free] += d
-                fx = phi(xt)
-                if not np.isfinite(fx):
-                    xt, relaxed = None, 0
-                elif fx <= ref[1] + 1e-4 * ref[3]:
-                    ref, relaxed = None, WATCHDOG
-                else:
-                    relaxed -= 1
+                report.seconds["search"] += time.perf_counter() - t0
+                gt = grad(xt)[free]
+                t0 = time.perf_counter()
+                target = report.tolerance = max(target, report.floor)
+                if not float(np.max(np.abs(gt))) <= target:  # a step that converges needs no weighing
+                    fx = phi(xt)
+                    if ref[1] is None:
+                        ref[1] = phi(ref[0])
+                    if not np.isfinite(fx):
+                        xt, gt, relaxed = None, None, 0
+                    elif fx <= ref[1] + 1e-4 * ref[3]:
+                        ref, relaxed = None, WATCHDOG
+                    else:
+                        relaxed -= 1
             if xt is None:  # back to the reference, and a monotone backtracking search along its direction
                 xr, fr, dr, sr = ref
-                xt, fx = self._backtrack(phi, xr, fr, dr, sr, free, label, it, report)
+                xt, fx = self._backtrack(phi, xr, phi(xr) if fr is None else fr, dr, sr, free, label, it, report)
                 ref = None
             moved = float(np.max(np.abs(xt - x)))
             x = xt
             report.seconds["search"] += time.perf_counter() - t0
-            g = grad(x)[free]
+            g = grad(x)[free] if gt is None else gt
             report.residuals.append(float(np.max(np.abs(g))))
             report.iterations = it
             target = report.tolerance = max(target, report.floor)
