@@ -191,7 +191,7 @@ def element_vectors(ldofs: np.ndarray, ndof: int) -> sp.csr_matrix:
 
 
 class ReducedSystem:
-    """A = K + K_2 + ... + c_m M + c_c C on a fixed pattern, split into free/held blocks.
+    """A = K + K_2 + ... + c_m M + c_c C on a fixed pattern, split into free/held blocks; all symmetric.
 
     Built once from the patterns of the varying matrices K (K_2, ...) and of
     the constant M and C; afterwards each refill only gathers data arrays (no
@@ -222,8 +222,8 @@ class ReducedSystem:
         slots = np.split(self.pattern.slot, np.cumsum([A.nnz for A in (*varying, M)]))
         self._varying = [(idx, A.indptr, A.indices) for idx, A in zip(slots, varying)]
         self._MC = (slots[-2], M.data, slots[-1], C.data)
-        self.rescale(cm, cc)
         self.blocks = [self._block(np.asarray(f, dtype=np.int64)) for f in fixed_sets]
+        self.rescale(cm, cc)
 
     def rescale(self, cm: float, cc: float) -> None:
         """Change the multipliers of M and C (a new time step)."""
@@ -232,6 +232,8 @@ class ReducedSystem:
         self.base = np.zeros(self.pattern.nnz)
         self.base[iM] += cm * M  # a canonical matrix has distinct slots
         self.base[iC] += cc * C
+        for block in self.blocks:
+            block["base_ff"] = self.base[block["gather_ff"]]
 
     def _block(self, fixed):
         n = self.n
@@ -243,16 +245,28 @@ class ReducedSystem:
         r, c = self.rows, self.cols
         ff = np.flatnonzero(isfree[r] & isfree[c])
         rr, cc = new[r[ff]], new[c[ff]]
-        order = np.lexsort((rr, cc))  # column-major for CSC
+        # row-major, as the CSR data the gathers read (forward in memory): as CSC arrays this is the free block's
+        # transpose, i.e. the block itself (symmetric)
+        order = np.lexsort((cc, rr))
         gather_ff = ff[order]
         nf = free.size
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(cc[order], minlength=nf))])
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(rr[order], minlength=nf))])
         fc = np.flatnonzero(isfree[r] & ~isfree[c])
+        # each varying matrix's data index of every free-free entry: a gather where it has them all (K), else
+        # the entries it has and their data indices (the springs' few)
+        where = np.full(self.pattern.nnz, -1, np.int64)
+        sources = []
+        for idx, _, _ in self._varying:
+            where[:] = -1
+            where[idx] = np.arange(idx.size)
+            src = where[gather_ff]
+            sources.append(src if np.all(src >= 0) else (np.flatnonzero(src >= 0), src[src >= 0]))
         return dict(
+            sources=sources,
             free=free,
             fixed=fixed,
             gather_ff=gather_ff,
-            indices=rr[order].astype(np.int32),
+            indices=cc[order].astype(np.int32),
             indptr=indptr.astype(np.int32),
             gather_fc=fc,
             fc_rows=new[r[fc]],
@@ -270,6 +284,26 @@ class ReducedSystem:
                 raise ValueError("a matrix of the system changed its sparsity pattern between steps")
             A[idx] += B.data
         return A
+
+    def free_block(self, K, *extra, block: int = 0) -> sp.csc_matrix:
+        """The free-free block of A for this K and these extra matrices, gathered from their data directly.
+
+        The same matrix as ``free_matrix(data(K, *extra), blocks[block])`` without forming A's whole data:
+        the Newton matrix of every iteration (:mod:`deformable.newton`).
+        """
+        if len(extra) != len(self._varying) - 1:
+            raise ValueError(f"ReducedSystem was built with {len(self._varying) - 1} extra matrices, got {len(extra)}")
+        b = self.blocks[block]
+        A = b["base_ff"].copy()
+        for (_, indptr, indices), B, src in zip(self._varying, (K, *extra), b["sources"]):
+            if not same_pattern(B, indptr, indices):
+                raise ValueError("a matrix of the system changed its sparsity pattern between steps")
+            if isinstance(src, tuple):
+                A[src[0]] += B.data[src[1]]
+            else:
+                A += B.data[src]
+        nf = b["free"].size
+        return sp.csc_matrix((A, b["indices"], b["indptr"]), shape=(nf, nf))
 
     def free_matrix(self, A: np.ndarray, block) -> sp.csc_matrix:
         """The free-free block of A's data for one block split (CSC; symmetric, so also its own CSR transpose)."""

@@ -319,7 +319,7 @@ class Newton:
             self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
-        A = self._system.free_matrix(self._system.data(H, *extra), self._system.blocks[0])
+        A = self._system.free_block(H, *extra)
         report.seconds["hessian"] += time.perf_counter() - t0
         # round-off floor: internal forces are sums of terms of size |diag H| |x|
         self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
