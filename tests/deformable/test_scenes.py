@@ -46,6 +46,15 @@ def test_module_functions_match_the_registry():
     assert scenes.curtain_silky(nodes=(8, 8)).material.mu == 20 * plain.mu
 
 
+@pytest.mark.parametrize("name", ["curtain", "curtain-silky", "paper"])
+def test_the_curtains_ship_on_grids_that_resolve_their_bending_length(name):
+    """The fold scale (D H / (mu g))^(1/4) spans at least 3 grid spacings on the grid a curtain ships on (the
+    folds themselves, 5-6 times it, are wider still; a limp cloth's folds on a coarse grid follow the grid)."""
+    cfg = scenes.config(name)
+    h = cfg.size[0] / (cfg.nodes[0] - 1)
+    assert scenes.fold_wavelength(cfg.xi, cfg.mu, cfg.g, cfg.size[1], cfg.scale) >= 3 * h
+
+
 def test_scale_multiplies_mu_gamma_and_the_forces_and_the_motion_is_the_softer_sheets():
     """Section 3.1: (s mu, s gamma, s f) with (eta, xi) moves like (mu, gamma, f) with (eta / s, xi / s)."""
     s = 20.0

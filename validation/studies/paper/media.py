@@ -3,10 +3,10 @@ r"""The README's pictures of the scenes (section 5, Figs 3-8): an animation and 
     python -m validation.studies.paper.media [--out docs/scenes] [--nodes N] [--frames K] [SCENE ...]
 
 Each scene of :mod:`deformable.scenes` runs as shipped (its own model,
-parameters, t_end and dt) on the FD backend, on N x N nodes (default: 32, the
-scenes' default grid; ``curtain-silky`` and ``paper`` are shipped on 64 x 64,
-and at 32 x 32 their folds are under-resolved, see the paper study's folds
-section). It writes ``<scene>.gif``, K + 1 frames from t = 0 to t_end (the
+parameters, grid, t_end and dt) on the FD backend: 32 x 32 nodes, the curtain
+family 64 x 64 (their folds at least 3 grid spacings wide there, see the paper
+study's folds section); ``--nodes N`` runs every scene on N x N instead. It
+writes ``<scene>.gif``, K + 1 frames from t = 0 to t_end (the
 surface coloured by its displacement out of the rest plane, y; the curtain's
 rod or the flag's pole drawn in; :func:`.pictures.animation`), and
 ``<scene>.png``, the last frame as a still (:func:`.pictures.render`). A run
@@ -82,11 +82,11 @@ def main(argv=None) -> int:
                                      description="Animations and stills of the scenes for the README.")
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help=f"default: {' '.join(MEDIA_SCENES)}")
     parser.add_argument("--out", default="docs/scenes", help="output folder (default: docs/scenes)")
-    parser.add_argument("--nodes", default="32", help="FD nodes a side (default: 32)")
+    parser.add_argument("--nodes", default=None, help="FD nodes a side (default: each scene's own grid)")
     parser.add_argument("--frames", default=str(FRAMES), help=f"frames after t = 0 (default: {FRAMES})")
     args = parser.parse_args(argv)
     try:
-        nodes = _positive_int("nodes", args.nodes, 3)
+        nodes = None if args.nodes is None else _positive_int("nodes", args.nodes, 3)
         frames = _positive_int("frames", args.frames, 1)
         names = args.scenes or list(MEDIA_SCENES)
         for name in names:
@@ -99,12 +99,13 @@ def main(argv=None) -> int:
         return 2
     failed = []
     for name in names:
-        run = scene_run(name, nodes, frames)
+        n = nodes or scenes.config(name).nodes[0]
+        run = scene_run(name, n, frames)
         if run["status"] != "finished":
             print(f"{name}: the run stopped at t = {run['t']:.3g} s ({run['status']}); nothing written", file=sys.stderr)
             failed.append(name)
             continue
-        gif, png = scene_media(name, run, nodes)
+        gif, png = scene_media(name, run, n)
         write_atomic(out / f"{name}.gif", gif)
         write_atomic(out / f"{name}.png", png)
         print(f"{name}: {run['steps']} steps in {run['wall']:.0f} s; {out / name}.gif ({len(gif) / 1e3:.0f} kB, "

@@ -37,12 +37,10 @@ PICTURES = tuple((sc.replace("-", "_"), sc, "variational", f"{figs}: `{sc}`") fo
 
 
 def picture_runs(R: dict, scene: str, force_model: str = "variational") -> dict:
-    """The runs of a scene that carry its frames, by backend (the scene's own xi; the flag's runs; the curtain as
-    it ships, not its xi sweep)."""
+    """The runs of a scene that carry its frames, by backend (the flag's; the others' at the scene's own xi)."""
     if scene == "flag":
         return {b: R[("flag", b, force_model)] for b in BACKENDS}
-    role = "shipped" if scene == "curtain" else "folds"
-    return {b: R[(role, scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
+    return {b: R[("folds", scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
 
 
 def decorations(scene: str) -> list:
@@ -70,7 +68,8 @@ def measure(res, R, s) -> list[Claim]:
     """Section 5 (Figs 3-8): the shipped scenes drawn, FD and FE side by side."""
     rows, made = [], []
     for name, sc, fm, head in PICTURES:
-        nodes = dict(zip(BACKENDS, s["silky"] if sc in ("curtain-silky", "paper") else s["s5"]))
+        nodes = dict(zip(BACKENDS, s["silky"] if sc in ("curtain-silky", "paper") else s["folds"] if sc == "curtain"
+                         else s["s5"]))
         runs = picture_runs(R, sc, fm)
         for b in BACKENDS:
             r = runs[b]
@@ -82,8 +81,11 @@ def measure(res, R, s) -> list[Claim]:
             res.findings.append(f"Render of {sc} ({fm}) failed: {err}")
             continue
         made.append(name)
+        stopped = "".join(f"; {b.upper()} diverged at t = {runs[b]['t']:.3g} s (its frames before that only)"
+                          for b in BACKENDS if runs[b]["status"] == "diverged")
         res.figures.append(Figure(f"scene_{name}", f"{head}, FD (top) and FE (bottom) at the start, middle and end; "
-                                                   "colour: displacement out of the rest plane, y (m)", image=png))
+                                                   f"colour: displacement out of the rest plane, y (m){stopped}",
+                                  image=png))
     res.tables.append(Table("renders", "Section 5 (Figs 3-8): the rendered runs",
                             ("scene", "force model", "backend", "grid", "class", "t reached (s)", "max G_ii"), rows,
                             note="Pictures at the end of the report; both backends on the same scene and times. The "
