@@ -23,6 +23,10 @@ from .cases import FROZEN, HANGING, VISIBLE
 from .claims import Claim, checks_of
 
 
+def _kept(run: dict) -> dict:
+    """A run's record for results.json: without its final state and its wall time (a rerun writes the same file)."""
+    return {k: v for k, v in run.items() if k not in ("final", "wall")}
+
 def measure(res, R, s) -> list[Claim]:
     """Claim 2 (section 3.2): eta_12 = xi_12 = 0, and alpha, beta given directly."""
     rows = []
@@ -38,8 +42,7 @@ def measure(res, R, s) -> list[Claim]:
                   "with eta_12 = eta",
                   f"{ref['G12_peak']:.3g} (eta_12 = 0) vs {full['G12_peak']:.3g} (eta_12 = eta)",
                   ref["G12_peak"] > full["G12_peak"])
-        res.data[f"hanging|{b}"] = {n: {k: v for k, v in R[("hanging", b, n)].items() if k != "final"}
-                                    for n in HANGING}
+        res.data[f"hanging|{b}"] = {n: _kept(R[("hanging", b, n)]) for n in HANGING}
     res.tables.append(Table(
         "shear", "Claim 2a (section 3.2): eta_12 = xi_12 = 0 against non-zero, hanging sheet",
         ("backend", "variant", "status", "peak |G12|", "mean |G12| at end", "peak |B12|", "mean sag of the hem (m)",
@@ -79,7 +82,8 @@ def measure(res, R, s) -> list[Claim]:
                   f"E = {fx['stretching'] + fx['bending']:.1e} J, |force| {fx['force']:.1e}, displacement "
                   f"{fx['displacement']:.1e} m",
                   fx["stretching"] + fx["bending"] == 0 and fx["displacement"] <= 1e-10)
-        res.data[f"frozen|{b}"] = {"alpha": fa, "beta": fb, "eta-xi": fx, "expected": [e_alpha, e_beta]}
+        res.data[f"frozen|{b}"] = {"alpha": _kept(fa), "beta": _kept(fb), "eta-xi": _kept(fx),
+                                   "expected": [e_alpha, e_beta]}
     res.tables.append(Table(
         "residual", "Claim 2b (section 3.2): alpha/beta given directly leave a residual elastic energy",
         ("backend", "sheet at rest, no load, no constraint", "elastic energy (J)", "expected (J)",
