@@ -79,21 +79,24 @@ def configure(parser) -> None:
     parser.add_argument("--sizes", default="32,64,128,256", help="semi-implicit rows: grid sizes n, n x n nodes "
                         "(default: 32,64,128,256)")
     parser.add_argument("--steps", default="5", help="timed steps per row, after one warm-up step (default: 5)")
-    parser.add_argument("--implicit-fd", default="32,64,128", metavar="N,...",
-                        help="implicit rows, FD: nodes a side (default: 32,64,128); '' for none")
-    parser.add_argument("--implicit-fe", default="16,32,64", metavar="N,...",
-                        help="implicit rows, FE: elements a side (default: 16,32,64); '' for none")
-    parser.add_argument("--contact-fd", default="64", metavar="N,...",
+    # the row lists below run as given, whatever --backend says; unset, a backend --backend takes has its default
+    parser.add_argument("--implicit-fd", default=None, metavar="N,...",
+                        help="implicit rows, FD: nodes a side (default with --backend fd or all: 32,64,128); '' for "
+                        "none")
+    parser.add_argument("--implicit-fe", default=None, metavar="N,...",
+                        help="implicit rows, FE: elements a side (default with --backend fe or all: 16,32,64); '' "
+                        "for none")
+    parser.add_argument("--contact-fd", default=None, metavar="N,...",
                         help="contact rows (the sphere scene with and without its ball), FD: nodes a side "
-                        "(default: 64); '' for none")
-    parser.add_argument("--contact-fe", default="", metavar="N,...",
+                        "(default with --backend fd or all: 64); '' for none")
+    parser.add_argument("--contact-fe", default=None, metavar="N,...",
                         help="contact rows, FE: elements a side (default: none)")
     parser.add_argument("--scenes", default="", metavar="NAME,...",
                         help="scene rows: shipped scenes run for --scene-time s, e.g. curtain,flag (default: none)")
-    parser.add_argument("--scene-fd", default="64", metavar="N,...",
-                        help="scene rows, FD: nodes a side (default: 64); '' for none")
-    parser.add_argument("--scene-fe", default="32", metavar="N,...",
-                        help="scene rows, FE: elements a side (default: 32); '' for none")
+    parser.add_argument("--scene-fd", default=None, metavar="N,...",
+                        help="scene rows, FD: nodes a side (default with --backend fd or all: 64); '' for none")
+    parser.add_argument("--scene-fe", default=None, metavar="N,...",
+                        help="scene rows, FE: elements a side (default with --backend fe or all: 32); '' for none")
     parser.add_argument("--scene-time", default="2", metavar="T",
                         help="scene rows: seconds of motion (default: 2)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
@@ -419,15 +422,28 @@ def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
     return sizes
 
 
+#: the grids of the implicit, contact and scene rows of a backend that --backend takes, unless given
+ROW_DEFAULTS = {"implicit": {"fd": "32,64,128", "fe": "16,32,64"}, "contact": {"fd": "64", "fe": ""},
+                "scene": {"fd": "64", "fe": "32"}}
+
+
+def _row_sizes(args, kind: str, backends) -> dict:
+    """The grids of one kind of row by backend: as given (whatever --backend says), else the default of a backend
+    that --backend takes, else none."""
+    out = {}
+    for b in ("fd", "fe"):
+        given = getattr(args, f"{kind}_{b}")
+        text = given if given is not None else ROW_DEFAULTS[kind][b] if b in backends else ""
+        out[b] = _sizes(text, f"--{kind}-{b}", allow_empty=True)
+    return out
+
+
 def _parse(args):
     backends = {"fd": ["fd"], "fe": ["fe"], "all": ["fd", "fe"]}.get(args.backend)
     if backends is None:
         raise InputError(f"unknown backend {args.backend!r}; choose fd, fe or all")
     sizes = _sizes(args.sizes, "--sizes")
-    implicit = {"fd": _sizes(args.implicit_fd, "--implicit-fd", allow_empty=True),
-                "fe": _sizes(args.implicit_fe, "--implicit-fe", allow_empty=True)}
-    contact = {"fd": _sizes(args.contact_fd, "--contact-fd", allow_empty=True),
-               "fe": _sizes(args.contact_fe, "--contact-fe", allow_empty=True)}
+    implicit, contact = _row_sizes(args, "implicit", backends), _row_sizes(args, "contact", backends)
     try:
         steps = int(args.steps)
     except ValueError:
@@ -445,8 +461,9 @@ def _parse(args):
         t_end = math.nan
     if not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"--scene-time must be a positive number of seconds, got {args.scene_time!r}")
-    scene_grids = {"fd": _sizes(args.scene_fd, "--scene-fd", allow_empty=True),
-                   "fe": _sizes(args.scene_fe, "--scene-fe", allow_empty=True)}
+    scene_grids = _row_sizes(args, "scene", backends)
+    if names and not any(scene_grids.values()):
+        raise InputError(f"--scenes {args.scenes!r} needs a grid: --scene-fd or --scene-fe")
     return backends, sizes, implicit, contact, steps, (names, scene_grids, t_end)
 
 
@@ -468,20 +485,20 @@ def execute(args) -> int:
     print(format_table(rows))
     _write(out / "bench.csv", rows, [("ratio", lambda r: r.ratio), ("same_ratio", lambda r: r.same_ratio)])
     print(f"wrote {out / 'bench.csv'}")
-    irows = [_in_own_process(bench_implicit, b, n, steps, args.solver) for b in backends for n in implicit[b]]
+    irows = [_in_own_process(bench_implicit, b, n, steps, args.solver) for b in ("fd", "fe") for n in implicit[b]]
     if irows:
         print(format_implicit(irows))
         _write(out / "bench_implicit.csv", irows, [("ms_per_iteration", lambda r: 1e3 * r.per_iteration),
                                                     ("iteration_ratio", lambda r: r.iteration_ratio),
                                                     ("step_ratio", lambda r: r.step_ratio)])
         print(f"wrote {out / 'bench_implicit.csv'}")
-    crows = [_in_own_process(bench_contact, b, n, steps, args.solver) for b in backends for n in contact[b]]
+    crows = [_in_own_process(bench_contact, b, n, steps, args.solver) for b in ("fd", "fe") for n in contact[b]]
     if crows:
         print(format_contact(crows))
         _write(out / "bench_contact.csv", crows, [("step_ratio", lambda r: r.step_ratio),
                                                    ("iteration_ratio", lambda r: r.iteration_ratio)])
         print(f"wrote {out / 'bench_contact.csv'}")
-    jobs = [(name, b, n) for name in names for b in backends for n in scene_grids[b]]
+    jobs = [(name, b, n) for name in names for b in ("fd", "fe") for n in scene_grids[b]]
     srows = []
     for k, (name, b, n) in enumerate(jobs, 1):  # minutes each: say which one runs
         print(f"scene {k} of {len(jobs)}: {name} {b} {n}x{n}, {t_end:g} s of motion", flush=True)

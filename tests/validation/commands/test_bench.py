@@ -44,6 +44,16 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert "step ms, ball" in out
 
 
+def test_row_lists_given_run_whatever_the_backend_and_unset_ones_follow_it(tmp_path, capsys):
+    """--implicit-fe given runs its FE rows under --backend fd; unset, FE's contact and scene rows stay off."""
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "3",
+                 "--contact-fd", "", "--out", str(tmp_path)]) == 0
+    with (tmp_path / "bench_implicit.csv").open() as fh:
+        assert [(r["backend"], r["grid"]) for r in csv.DictReader(fh)] == [("fe", "3x3")]
+    assert not (tmp_path / "bench_contact.csv").exists() and not (tmp_path / "bench_scenes.csv").exists()
+    assert "scene 1 of" not in capsys.readouterr().out
+
+
 def test_scene_rows_run_shipped_scenes_for_their_time(tmp_path, capsys):
     """Opt-in scene rows: each shipped scene as it ships, on each backend, with Newton's counts per step."""
     assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "", "--contact-fd", "",
@@ -81,6 +91,7 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--steps", "0"], "--steps must be a positive integer"),
     (["--implicit-fd", "4,y"], "--implicit-fd must be comma-separated integers"),
     (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
+    (["--scenes", "curtain", "--scene-fd", ""], "--scenes 'curtain' needs a grid"),
     (["--contact-fd", "z"], "--contact-fd must be comma-separated integers"),
     (["--solver", "mumps"], "solver must be one of"),
     (["--scenes", "curtain,drapes"], "--scenes: unknown scene 'drapes'"),
