@@ -43,11 +43,12 @@ share: the model's energy over flat coordinate-blocked vectors
   a sufficient (Armijo) decrease against the last good point, the search goes
   back to that point and backtracks along its direction. Phi is evaluated
   only to weigh a step: a full step whose residual meets the tolerance ends
-  the solve without it (measured on the curtain, FD 24 x 24 nodes, 40 steps:
-  1.05 evaluations of Phi a step against 2.5, the same iterates). Newton's method keeps
-  its quadratic convergence through the nonconvex stretches of elastica-like
-  problems (measured: 16-19 iterations for a cantilever bent to P L^2/EI = 4
-  from flat), where a backtracking search under a bound on the step took 65-70.
+  the solve without it (measured on the curtain, FD 24 x 24 nodes, 40
+  steps: 1.05 evaluations of Phi a step against 2.5, the same iterates).
+  Newton's method keeps its quadratic convergence through the nonconvex
+  stretches of elastica-like problems (measured: 16-19 iterations for a
+  cantilever bent to P L^2/EI = 4 from flat), where a backtracking search
+  under a bound on the step took 65-70.
 
 The potential's elastic part may carry the scene's springs
 (:class:`deformable.loads.Loads`: an energy with its Hessian), evaluated at
@@ -396,7 +397,7 @@ class Newton:
         if r0 <= target:
             report.converged = True
             return x, report
-        ref = None  # the watchdog's reference: [x, phi or None, direction, slope] at the last point of sufficient decrease
+        ref = None  # the watchdog's reference, [x, phi or None, direction, slope]: the last sufficient decrease
         fx = None  # phi at x, when known
         relaxed = WATCHDOG
         for it in range(1, s.max_iter + 1):
