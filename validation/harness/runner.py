@@ -92,13 +92,24 @@ def _distributed():
     return distributed
 
 
-def _end_with_parent(parent: int | None) -> None:
-    """Pool-worker initializer: a worker ends with the process that made it, so a killed run leaves no orphans.
+def _start_worker(parent: int | None) -> None:
+    """Pool-worker initializer: a worker computes on one core, and ends with the process that made it.
 
-    On Linux the kernel sends the worker SIGKILL when its parent (this process, or the forkserver,
-    which ends with this process) dies: ``prctl(PR_SET_PDEATHSIG)``. ``parent``: the expected parent's
-    id, when known, to catch a parent that died before the request. Elsewhere nothing is done.
+    One core: OMP_NUM_THREADS = 1 (the Hessian's threads, :func:`deformable.integrand.hessian_threads`, and
+    MKL's in a worker that loads it later) and one thread for the BLAS and MKL this process has loaded already
+    (threadpoolctl), as Dask's workers have; the pool has at most a worker per core. Without it each worker of
+    ``--jobs 2`` ran two Hessian threads and two MKL threads on the machine's two cores.
+
+    Ending with its parent: on Linux the kernel sends the worker SIGKILL when its parent (this process, or the
+    forkserver, which ends with this process) dies: ``prctl(PR_SET_PDEATHSIG)``, so a killed run leaves no
+    orphans. ``parent``: the expected parent's id, when known, to catch a parent that died before the
+    request. Elsewhere nothing is done.
     """
+    from threadpoolctl import threadpool_limits
+
+    for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+        os.environ[name] = "1"
+    threadpool_limits(1)
     if not sys.platform.startswith("linux"):
         return
     import ctypes
@@ -213,7 +224,7 @@ class Runner:
             # single-threaded process forks the workers instead
             method = "fork" if threading.active_count() == 1 else "forkserver"
             self._pool = ProcessPoolExecutor(self.jobs, mp_context=mp.get_context(method),
-                                             initializer=_end_with_parent,
+                                             initializer=_start_worker,
                                              initargs=(os.getpid() if method == "fork" else None,))
         return self
 

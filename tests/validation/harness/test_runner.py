@@ -25,7 +25,7 @@ from validation.studies import STUDIES
 from validation.studies.paper import Case
 from validation.studies.paper import run_case as paper_case
 
-from .workload import environment, reciprocal, square_and_pid
+from .workload import environment, reciprocal, square_and_pid, threads
 
 
 @pytest.fixture(scope="module")
@@ -151,6 +151,13 @@ def test_a_case_has_the_same_bits_whatever_ran_before_it_and_on_any_number_of_mk
     fresh = subprocess.run([sys.executable, "-c", code], input=pickle.dumps(first), capture_output=True, env=env,
                            check=True)
     assert without_wall(json.loads(fresh.stdout)) == reference, "a fresh process on one thread differs"
+
+
+def test_pool_workers_compute_on_one_thread_each():
+    """--jobs N runs at most a worker per core: each assembles its Hessians and calls BLAS / MKL on one thread,
+    as Dask's workers do (before, each of two workers ran two of each on two cores)."""
+    with Runner(jobs=2) as runner:
+        assert runner.map(threads, [0, 1]) == [(1, 1), (1, 1)]
 
 
 def test_a_local_cluster_leaves_the_environment_of_this_process_as_it_was():

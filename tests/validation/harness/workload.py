@@ -16,3 +16,15 @@ def reciprocal(x):
 def environment(name):
     """The value of an environment variable in the process that runs this (None when unset)."""
     return os.environ.get(name)
+
+
+def threads(_):
+    """(Hessian threads, the largest thread count of a BLAS or MKL loaded here) in the process that runs this."""
+    from threadpoolctl import threadpool_info
+
+    from deformable.integrand import hessian_threads
+    from deformable.linalg import available, make_solver
+
+    if "pardiso" in available():
+        make_solver("pardiso")  # MKL loaded here, if this process had not yet
+    return hessian_threads(), max(p["num_threads"] for p in threadpool_info())
