@@ -30,7 +30,8 @@ Determinism. A case is computed by the same code on the same inputs wherever
 it runs, so the numbers are bit-identical serially, on the pool and on Dask
 workers of the same machine (tests/validation/harness/test_runner.py). The
 one thing that could differ between processes is the number of BLAS / MKL
-threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``).
+threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``), and so do the pool's
+(:func:`_start_worker`).
 SuperLU is single-threaded, and PARDISO runs in MKL's conditional numerical
 reproducibility mode (:mod:`deformable.linalg`): without it a factorisation
 on one MKL thread differs in the last bits from one on two (FE 6 x 6 nodes),
