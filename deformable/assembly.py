@@ -274,14 +274,19 @@ class ReducedSystem:
             shape_fc=(nf, fixed.size),
         )
 
-    def data(self, K, *extra) -> np.ndarray:
-        """The data of A for this K and these extra matrices (the patterns the system was built with)."""
+    def _checked(self, K, extra) -> tuple:
+        """(K, *extra), each checked against the pattern the system was built with for it."""
         if len(extra) != len(self._varying) - 1:
             raise ValueError(f"ReducedSystem was built with {len(self._varying) - 1} extra matrices, got {len(extra)}")
-        A = self.base.copy()
-        for (idx, indptr, indices), B in zip(self._varying, (K, *extra)):
+        for (_, indptr, indices), B in zip(self._varying, (K, *extra)):
             if not same_pattern(B, indptr, indices):
                 raise ValueError("a matrix of the system changed its sparsity pattern between steps")
+        return (K, *extra)
+
+    def data(self, K, *extra) -> np.ndarray:
+        """The data of A for this K and these extra matrices (the patterns the system was built with)."""
+        A = self.base.copy()
+        for (idx, _, _), B in zip(self._varying, self._checked(K, extra)):
             A[idx] += B.data
         return A
 
@@ -291,24 +296,24 @@ class ReducedSystem:
         The same matrix as ``free_matrix(data(K, *extra), blocks[block])`` without forming A's whole data:
         the Newton matrix of every iteration (:mod:`deformable.newton`).
         """
-        if len(extra) != len(self._varying) - 1:
-            raise ValueError(f"ReducedSystem was built with {len(self._varying) - 1} extra matrices, got {len(extra)}")
         b = self.blocks[block]
         A = b["base_ff"].copy()
-        for (_, indptr, indices), B, src in zip(self._varying, (K, *extra), b["sources"]):
-            if not same_pattern(B, indptr, indices):
-                raise ValueError("a matrix of the system changed its sparsity pattern between steps")
+        for B, src in zip(self._checked(K, extra), b["sources"]):
             if isinstance(src, tuple):
                 A[src[0]] += B.data[src[1]]
             else:
                 A += B.data[src]
-        nf = b["free"].size
-        return sp.csc_matrix((A, b["indices"], b["indptr"]), shape=(nf, nf))
+        return self._free(A, b)
 
     def free_matrix(self, A: np.ndarray, block) -> sp.csc_matrix:
         """The free-free block of A's data for one block split (CSC; symmetric, so also its own CSR transpose)."""
+        return self._free(A[block["gather_ff"]], block)
+
+    @staticmethod
+    def _free(data: np.ndarray, block) -> sp.csc_matrix:
+        """The free-free block from its own data, in the block's order."""
         nf = block["free"].size
-        return sp.csc_matrix((A[block["gather_ff"]], block["indices"], block["indptr"]), shape=(nf, nf))
+        return sp.csc_matrix((data, block["indices"], block["indptr"]), shape=(nf, nf))
 
     def matrices(self, A: np.ndarray, block):
         """The free-free block (CSC) and the free-held block (CSR) of A's data for one block split."""
