@@ -509,11 +509,7 @@ class ContactPotential:
         implicit step starts its search (measured on the ``sphere`` scene, FD 64 x 64: the common fraction was
         0.26-0.49).
         """
-        r, dr = self._positions(x), self._positions(dx)
-        keep = 1.0 - self.settings.margin
-        s = np.ones(r.shape[0])
-        for obstacle in self.obstacles:
-            s = np.minimum(s, obstacle.first_contact(r, dr, keep * obstacle.distance(r)))
+        s = self._point_steps(x, dx)
         W = self.points.W
         fraction = np.ones(self.n)
         np.minimum.at(fraction, W.indices, np.repeat(s, np.diff(W.indptr)))
@@ -526,13 +522,17 @@ class ContactPotential:
         Exact for the convex obstacles (:meth:`deformable.obstacles.Obstacle.first_contact`): the first s at
         which a point would have closed ``margin`` of its gap, over all points and obstacles, capped at 1.
         """
+        return float(np.min(self._point_steps(x, dx), initial=1.0))
+
+    def _point_steps(self, x, dx) -> np.ndarray:
+        """Per contact point, the largest s in (0, 1] for which it stays ``margin`` of its gap away from every
+        obstacle along x + s dx, (P,)."""
         r, dr = self._positions(x), self._positions(dx)
         keep = 1.0 - self.settings.margin
-        alpha = 1.0
+        s = np.ones(r.shape[0])
         for obstacle in self.obstacles:
-            d = obstacle.distance(r)
-            alpha = min(alpha, float(np.min(obstacle.first_contact(r, dr, keep * d), initial=np.inf)))
-        return alpha
+            s = np.minimum(s, obstacle.first_contact(r, dr, keep * obstacle.distance(r)))
+        return s
 
 
 class Repulsion:
