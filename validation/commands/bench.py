@@ -252,8 +252,7 @@ class ImplicitRow:
 
 def bench_implicit(backend: str, n: int, steps: int, solver: str = "auto") -> ImplicitRow:
     """Time ``steps`` implicit-Euler steps of the variational curtain on n nodes (FD) or n elements (FE) a side."""
-    nodes = n if backend == "fd" else n + 1
-    cfg = scenes.config("curtain", nodes=(nodes, nodes))
+    cfg = _config("curtain", backend, n)
     model = make_model(scenes.build(cfg), backend)
     stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
     state = stepper.step(stepper.start(model.initial_state()))  # warm-up: patterns and analyses are built once
@@ -289,6 +288,13 @@ def format_implicit(rows) -> str:
           f"{r.iteration_ratio:.2f}", f"{r.step_ratio:.1f}", f"{r.peak_mb:.0f}") for r in rows])
 
 
+def _config(scene: str, backend: str, n: int):
+    """A shipped scene's config on n nodes (FD) or n elements (FE) a side: the unit of the implicit, scene and
+    contact rows."""
+    nodes = n if backend == "fd" else n + 1
+    return scenes.config(scene, nodes=(nodes, nodes))
+
+
 def _grid(r) -> str:
     """A row's grid with its unit: nodes a side (FD) or elements a side (FE)."""
     return f"{r.grid}{' nodes' if r.backend == 'fd' else ' el.'}"
@@ -318,8 +324,7 @@ class SceneRow:
 def bench_scene(scene: str, backend: str, n: int, t_end: float, solver: str = "auto") -> SceneRow:
     """Run a shipped scene (energy-consistent, implicit Euler at its own dt, as every scene ships) for t_end seconds
     on n nodes (FD) or n elements (FE) a side."""
-    nodes = n if backend == "fd" else n + 1
-    cfg = scenes.config(scene, nodes=(nodes, nodes))
+    cfg = _config(scene, backend, n)
     model = make_model(scenes.build(cfg), backend)
     stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
     t0 = time.perf_counter()
@@ -388,8 +393,7 @@ def bench_contact(backend: str, n: int, steps: int, solver: str = "auto") -> Con
 
     from deformable.contact import contact_points
 
-    nodes = n if backend == "fd" else n + 1
-    base = scenes.config("sphere", nodes=(nodes, nodes))
+    base = _config("sphere", backend, n)
     cfg = base.replace(gap=0.5 * base.contact.distance)
     scene = scenes.build(cfg)
     model = make_model(scene, backend)
@@ -475,36 +479,35 @@ def _write(path: Path, rows, extra=()) -> None:
             writer.writerow(list(asdict(r).values()) + [f"{fn(r):.4f}" for _, fn in extra])
 
 
+def _emit(path: Path, rows, table, extra=()) -> None:
+    """Print the rows' markdown table and write them to the CSV at ``path``; nothing for no rows."""
+    if rows:
+        print(table(rows))
+        _write(path, rows, extra)
+        print(f"wrote {path}")
+
+
 def execute(args) -> int:
-    """``deformable bench``: print the tables and write bench.csv and bench_implicit.csv."""
+    """``deformable bench``: print the tables and write bench.csv (and bench_implicit.csv, bench_contact.csv,
+    bench_scenes.csv for the rows asked for)."""
     from validation.harness.report import writable_folder
 
     backends, sizes, implicit, contact, steps, (names, scene_grids, t_end) = _parse(args)
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
     rows = [_in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
-    print(format_table(rows))
-    _write(out / "bench.csv", rows, [("ratio", lambda r: r.ratio), ("same_ratio", lambda r: r.same_ratio)])
-    print(f"wrote {out / 'bench.csv'}")
+    _emit(out / "bench.csv", rows, format_table,
+          [("ratio", lambda r: r.ratio), ("same_ratio", lambda r: r.same_ratio)])
     irows = [_in_own_process(bench_implicit, b, n, steps, args.solver) for b in ("fd", "fe") for n in implicit[b]]
-    if irows:
-        print(format_implicit(irows))
-        _write(out / "bench_implicit.csv", irows, [("ms_per_iteration", lambda r: 1e3 * r.per_iteration),
-                                                    ("iteration_ratio", lambda r: r.iteration_ratio),
-                                                    ("step_ratio", lambda r: r.step_ratio)])
-        print(f"wrote {out / 'bench_implicit.csv'}")
+    _emit(out / "bench_implicit.csv", irows, format_implicit,
+          [("ms_per_iteration", lambda r: 1e3 * r.per_iteration), ("iteration_ratio", lambda r: r.iteration_ratio),
+           ("step_ratio", lambda r: r.step_ratio)])
     crows = [_in_own_process(bench_contact, b, n, steps, args.solver) for b in ("fd", "fe") for n in contact[b]]
-    if crows:
-        print(format_contact(crows))
-        _write(out / "bench_contact.csv", crows, [("step_ratio", lambda r: r.step_ratio),
-                                                   ("iteration_ratio", lambda r: r.iteration_ratio)])
-        print(f"wrote {out / 'bench_contact.csv'}")
+    _emit(out / "bench_contact.csv", crows, format_contact,
+          [("step_ratio", lambda r: r.step_ratio), ("iteration_ratio", lambda r: r.iteration_ratio)])
     jobs = [(name, b, n) for name in names for b in ("fd", "fe") for n in scene_grids[b]]
     srows = []
     for k, (name, b, n) in enumerate(jobs, 1):  # minutes each: say which one runs
         print(f"scene {k} of {len(jobs)}: {name} {b} {n}x{n}, {t_end:g} s of motion", flush=True)
         srows.append(_in_own_process(bench_scene, name, b, n, t_end, args.solver))
-    if srows:
-        print(format_scenes(srows))
-        _write(out / "bench_scenes.csv", srows)
-        print(f"wrote {out / 'bench_scenes.csv'}")
+    _emit(out / "bench_scenes.csv", srows, format_scenes)
     return 0
