@@ -30,12 +30,12 @@ Determinism. A case is computed by the same code on the same inputs wherever
 it runs, so the numbers are bit-identical serially, on the pool and on Dask
 workers of the same machine (tests/validation/harness/test_runner.py). The
 one thing that could differ between processes is the number of BLAS / MKL
-threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``), and so do the pool's
-(:func:`_start_worker`).
-SuperLU is single-threaded, and PARDISO runs in MKL's conditional numerical
-reproducibility mode (:mod:`deformable.linalg`): without it a factorisation
-on one MKL thread differs in the last bits from one on two (FE 6 x 6 nodes),
-so nothing is pinned in this process. Dask sets its workers' variables
+threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``),
+and so do the pool's (:func:`_start_worker`). SuperLU is single-threaded,
+and PARDISO runs in MKL's conditional numerical reproducibility mode
+(:mod:`deformable.linalg`): without it a factorisation on one MKL thread
+differs in the last bits from one on two (FE 6 x 6 nodes), so nothing is
+pinned in this process. Dask sets its workers' variables
 (``OMP_NUM_THREADS=1``, ``PYTHONHASHSEED``, ...) in this process to spawn
 them; the runner sets this process's environment back.
 

@@ -78,9 +78,9 @@ def fill(res, levels: int, runner) -> None:
         timings[b] = cpu
     fd_best = res.data["fd"]["error"][-1]
     cheaper = [c for c, e in zip(timings["fe"], res.data["fe"]["error"]) if e <= fd_best]
-    res.run_findings.append(f"FE reaches FD's finest B error ({fd_best:.2e}) at {min(cheaper):.3g} s of CPU time against "
-                        f"FD's {timings['fd'][-1]:.3g} s." if cheaper else
-                        "FE does not reach FD's finest B error on these levels.")
+    res.run_findings.append(f"FE reaches FD's finest B error ({fd_best:.2e}) at {min(cheaper):.3g} s of CPU time "
+                            f"against FD's {timings['fd'][-1]:.3g} s." if cheaper else
+                            "FE does not reach FD's finest B error on these levels.")
     res.tables.append(Table("work", "CPU time and B error", ("backend", "nodes a side", "h", "CPU time (s)",
                                                              "max error of B (1/m)"), rows, volatile=True))
     res.figures.append(Figure("work_precision", "Work-precision: max error of B against CPU time",
