@@ -23,7 +23,7 @@ from validation.harness.surfaces import cylinder
 
 from . import damping, folds
 
-__all__ = ["Case", "grid_label", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
+__all__ = ["Case", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
            "VISIBLE",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
            "FOLD_SCENES", "scene_cases", "shipped_dt"]
@@ -198,6 +198,12 @@ def _run_scene(case: Case) -> dict:
 def grid_label(backend: str, nodes: int) -> str:
     """A section-5 grid as the reports name it: "FD 32x32 nodes", or "FE 16x16 el." for 17 nodes a side."""
     return f"FD {nodes}x{nodes} nodes" if backend == "fd" else f"FE {nodes - 1}x{nodes - 1} el."
+
+
+def scene_grids(s: dict, scene: str) -> tuple:
+    """(FD nodes, FE nodes) a side of a section-5 scene's runs at settings ``s``: the curtain's on ``folds``,
+    curtain-silky's and paper's on ``silky``, the flag's on ``s5``."""
+    return s["folds"] if scene == "curtain" else s["silky"] if scene in ("curtain-silky", "paper") else s["s5"]
 
 
 def shipped_dt(cfg, model) -> float:

@@ -123,10 +123,11 @@ def measure(res, R: dict, s: dict) -> list:
     from validation.harness.study import Figure, Table
 
     from .analysis import classify
+    from .cases import scene_grids
     from .claims import Claim, checks_of
     from .pictures import panels_figure
 
-    n = dict(zip(BACKENDS, s["s5"]))
+    n = dict(zip(BACKENDS, scene_grids(s, "flag")))
     P, rows = {}, []
     for b in BACKENDS:
         for fm in ("variational", "tpbf87"):

@@ -219,12 +219,12 @@ def measure(res, R: dict, s: dict) -> list:
     from validation.harness.study import Table
 
     from .analysis import classify
-    from .cases import grid_label
+    from .cases import grid_label, scene_grids
     from .claims import Claim, checks_of
     from .pictures import panels_figure
 
     def grid(b):
-        return grid_label(b, dict(zip(BACKENDS, s["folds"]))[b])
+        return grid_label(b, dict(zip(BACKENDS, scene_grids(s, "curtain")))[b])
 
     keys = [k for k in R if k[0] == "folds"]
     F = {k: run_folds(R[k]) for k in keys}
@@ -232,7 +232,7 @@ def measure(res, R: dict, s: dict) -> list:
     for k in keys:
         _, sc, b, fm, xi = k
         r, f = R[k], F[k]
-        n = dict(zip(BACKENDS, s["silky"] if sc != "curtain" else s["folds"]))[b]
+        n = dict(zip(BACKENDS, scene_grids(s, sc)))[b]
         rows.append((sc, b.upper(), n if b == "fd" else f"{n - 1} el.",
                      fm, xi, classify(r), r["t"], f["count"],
                      f["width"], f["width_h"], f["narrowest_h"], f["ever_narrowest_h"], f["below"], *f["below_at"],

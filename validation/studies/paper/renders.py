@@ -23,7 +23,7 @@ from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 
 from .analysis import classify
-from .cases import RENDERS, grid_label
+from .cases import RENDERS, grid_label, scene_grids
 from .claims import Claim, checks_of
 from .pictures import render
 
@@ -68,8 +68,7 @@ def measure(res, R, s) -> list[Claim]:
     """Section 5 (Figs 3-8): the shipped scenes drawn, FD and FE side by side."""
     rows, made = [], []
     for name, sc, fm, head in PICTURES:
-        nodes = dict(zip(BACKENDS, s["silky"] if sc in ("curtain-silky", "paper") else s["folds"] if sc == "curtain"
-                         else s["s5"]))
+        nodes = dict(zip(BACKENDS, scene_grids(s, sc)))
         runs = picture_runs(R, sc, fm)
         for b in BACKENDS:
             r = runs[b]
