@@ -64,7 +64,13 @@ would reach an obstacle). The watchdog's full steps and its backtracking
 from the last good point both move along clipped directions, so no iterate,
 tried or taken, carries a contact point across an obstacle (Li et al. 2020,
 "Incremental Potential Contact", section 4), and the Armijo test compares
-against the slope of the clipped step.
+against the slope of the clipped step. In a time step (a Newton matrix with
+inertia) the direction's contact normals are first solved against the
+barrier itself (:meth:`deformable.contact.ContactPotential.relax`, a
+nonlinear elimination); that direction is kept when its step decreases Phi
+from the current iterate (Armijo), else the iteration takes Newton's own
+clipped step, at the cost of a second gradient. Equilibrium has no inertia to
+bound the 1-D models, and takes Newton's clipped direction.
 """
 
 from __future__ import annotations
@@ -302,6 +308,7 @@ class Newton:
         self._factored = None  # (c_M, c_C) of the factorisation at hand, or None
         self._floor = 0.0
         self._damping = None  # an extra damping matrix of the current solve (already times c_C)
+        self._stiffness = None  # with contact: the Newton matrix's diagonal without the contact's Hessian (3 ndof,)
 
     def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
         """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
@@ -321,6 +328,10 @@ class Newton:
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
         A = self._system.free_block(H, *extra)
+        if p.contact is not None:  # the diagonal without the contact's Hessian (the last extra matrix but damping)
+            contact = extra[len(extra) - 1 - (self._damping is not None)]
+            self._stiffness = np.zeros(3 * p.n)
+            self._stiffness[p.free] = A.diagonal() - contact.diagonal()[p.free]
         report.seconds["hessian"] += time.perf_counter() - t0
         # round-off floor: internal forces are sums of terms of size |diag H| |x|
         self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
@@ -411,15 +422,24 @@ class Newton:
             report.seconds["solve"] += time.perf_counter() - t0
             t0 = time.perf_counter()
             slope = float(g @ d)
-            if not slope < 0:  # no descent (a stale factorisation): steepest descent, scaled like the step
+            newton = slope < 0
+            if not newton:  # no descent (a stale factorisation): steepest descent, scaled like the step
                 d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
                 slope = float(g @ d)
-            if p.contact is not None:  # clipped to the safe step: no point of the segment crosses an obstacle
+            plain = None  # with contact: the clipped Newton direction, when the solved normals replace it
+            if p.contact is not None:  # the contact normals solved against the barrier, then the safe step
                 dx = np.zeros_like(x)
                 dx[free] = d
+                if newton and cm > 0:  # the 1-D models need the inertia's stiffness (none in equilibrium)
+                    solved = p.contact.relax(x, dx, self._stiffness)
+                    if solved is not dx and float(g @ solved[free]) < 0:
+                        alpha = p.max_step(x, dx)
+                        plain = (alpha * d, alpha * slope)
+                        dx, d, slope = solved, solved[free], float(g @ solved[free])
                 alpha = p.max_step(x, dx)
                 d, slope = alpha * d, alpha * slope
-            if ref is None:  # phi there is evaluated when a step is first weighed against it
+            new_ref = ref is None
+            if new_ref:  # phi there is evaluated when a step is first weighed against it
                 ref = [x, fx, d, slope]
             xt = gt = None
             if relaxed > 0:  # a full Newton step, kept even if phi grows, for at most WATCHDOG steps in a row
@@ -429,8 +449,23 @@ class Newton:
                 gt = grad(xt)[free]
                 t0 = time.perf_counter()
                 target = report.tolerance = max(target, report.floor)
-                if not float(np.max(np.abs(gt))) <= target:  # a step that converges needs no weighing
-                    fx = phi(xt)
+                weigh = not float(np.max(np.abs(gt))) <= target  # a step that converges needs no weighing
+                ft = None
+                if weigh and plain is not None:  # the solved normals must gain on x itself, else Newton's own step
+                    fx = phi(x) if fx is None else fx
+                    if new_ref:
+                        ref[1] = fx
+                    ft = phi(xt)
+                    if not ft <= fx + 1e-4 * slope:
+                        (d, slope), ft = plain, None
+                        if new_ref:
+                            ref[2:] = [d, slope]
+                        xt = x.copy()
+                        xt[free] += d
+                        gt = grad(xt)[free]
+                        weigh = not float(np.max(np.abs(gt))) <= target
+                if weigh:
+                    fx = phi(xt) if ft is None else ft
                     if ref[1] is None:
                         ref[1] = phi(ref[0])
                     if not np.isfinite(fx):

@@ -138,6 +138,61 @@ def test_safe_start_holds_back_only_what_meets_the_obstacle(backend):
     assert pot.max_step(x, dx) == pytest.approx(0.008, rel=1e-12)
 
 
+def relax_case(backend, dhat=1e-3):
+    """A sheet 0.5 dhat above the floor (one row of nodes 10 cm up), a direction that carries its nodes 0.1 to 3
+    dhat down (to the barrier, or through the floor) and 0.1 mm along x, a uniform stiffness, one node held."""
+    model = make_model(drop_scene((5, 5), 0.5 * dhat), backend)
+    X = model.initial_state()
+    values = np.asarray(model.value_dofs)
+    X[values[:5], 2] = 0.1
+    x, n = flat(X), model.ndof
+    dx = np.zeros_like(x)
+    dx[2 * n + values] = -dhat * np.random.default_rng(3).uniform(0.1, 3.0, values.size)
+    dx[values] += 1e-4
+    stiffness = np.full_like(x, 50.0)
+    held = values[-1]
+    stiffness[held::n] = dx[held::n] = 0.0
+    return model, x, dx, stiffness, held
+
+
+def test_relax_solves_each_contact_normal_against_the_barrier():
+    """ContactPotential.relax (FD): a node the direction carries into (or through) the barrier gets the normal
+    displacement s that solves its 1-D model, k (s - s_N) - w (b'(d) + b''(d) s_N) + w b'(d + s) = 0 (checked by
+    bisection); its tangential displacement, the nodes far from the floor and the held one keep Newton's."""
+    dhat = 1e-3
+    model, x, dx, stiffness, held = relax_case("fd", dhat)
+    pot = ct.ContactPotential(model)
+    out = pot.relax(x, dx, stiffness)
+    n = model.ndof
+    moved = 0
+    for j in range(n):
+        d0, sN, s = x[2 * n + j], dx[2 * n + j], out[2 * n + j]
+        assert out[j] == dx[j] and out[n + j] == dx[n + j]  # tangential: Newton's
+        if j == held or d0 + min(sN, 0.0) >= dhat:
+            assert s == sN
+            continue
+        w = pot.weight[j]
+        b1, b2 = (fn(np.array([d0]), dhat)[0] for fn in (ct.barrier_derivative, ct.barrier_second))
+
+        def f(t):
+            return stiffness[j] * (t - sN) - w * (b1 + b2 * sN) + w * ct.barrier_derivative(np.array([d0 + t]), dhat)[0]
+
+        lo, hi = -d0 * (1 - 1e-12), 1.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if f(mid) < 0 else (lo, mid)
+        assert s == pytest.approx(0.5 * (lo + hi), rel=1e-6, abs=1e-12 * dhat)
+        assert d0 + s > 0
+        moved += s != sN
+    assert moved >= 10  # the check ran over the carried nodes
+
+
+def test_relax_leaves_fe_directions_to_newton():
+    """FE's contact points between the nodes share the nodes' degrees of freedom: relax returns the direction."""
+    model, x, dx, stiffness, _ = relax_case("fe")
+    assert ct.ContactPotential(model).relax(x, dx, stiffness) is dx
+
+
 @pytest.mark.parametrize("backend, nodes", [("fd", (8, 8)), ("fe", (4, 4))])
 def test_a_fast_drop_never_penetrates_not_even_in_a_trial_point(backend, nodes):
     """A sheet hitting the floor at 5 m/s: every potential evaluation of the line search sees a positive clearance."""
