@@ -60,9 +60,10 @@ s_N = n . (W dx)_p: Newton's model with the barrier's linearisation replaced
 by the barrier. Its 1-D energy is convex in s; a safeguarded 1-D Newton
 solves it. Newton (:mod:`deformable.newton`) keeps the direction so changed
 when its step decreases the potential, else takes its own. It needs every
-contact point to be a degree of freedom's own point (FD's nodes); FE's
-sample points between the nodes share their degrees of freedom, and there
-the direction stays Newton's. Measured on the ``sphere`` scene, FD 64 x 64
+contact point to be a degree of freedom's own point (FD's nodes, its
+default); sample points between the nodes (FE's, and FD's under
+``Contact(samples > 1)``, as the ``drape`` scene's) share their degrees of
+freedom, and there the direction stays Newton's. Measured on the ``sphere`` scene, FD 64 x 64
 nodes starting in contact (``deformable bench``): over the first 5 steps
 3.40 -> 2.40 Newton iterations a step (221.8 -> 167.5 ms a step), over the
 first 40 steps 5.60 -> 4.55 (393.8 -> 334.5 ms; there the draped cloth's
