@@ -12,7 +12,8 @@ from validation.commands.bench import SEMI_IMPLICIT_DT, _model
 
 def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--implicit-fd", "8",
-                 "--implicit-fe", "4", "--contact-fd", "6", "--contact-fe", "3", "--out", str(tmp_path)]) == 0
+                 "--implicit-fe", "4", "--contact-fd", "6", "--contact-fe", "3", "--contact-steps", "3",
+                 "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "step / (factor+solve)" in out and "| fd | 12x12 |" in out and "| fe | 12x12 |" in out
     with (tmp_path / "bench.csv").open() as fh:
@@ -40,6 +41,7 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert [(r["backend"], r["grid"]) for r in contact] == [("fd", "6x6"), ("fe", "3x3")]
     for r in contact:
         assert float(r["newton_free"]) >= 1 and float(r["newton_contact"]) >= 1 and int(r["contact_points"]) >= 36
+        assert int(r["steps"]) == 3  # the contact rows' own window
         assert float(r["step_ratio"]) == pytest.approx(float(r["step_contact"]) / float(r["step_free"]), rel=1e-3)
     assert "step ms, ball" in out
 
@@ -89,6 +91,7 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--sizes", "2"], "grid sizes of at least 3"),
     (["--backend", "fv"], "unknown backend 'fv'"),
     (["--steps", "0"], "--steps must be a positive integer"),
+    (["--contact-steps", "1.5"], "--contact-steps must be a positive integer, got '1.5'"),
     (["--implicit-fd", "4,y"], "--implicit-fd must be comma-separated integers"),
     (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
     (["--scenes", "curtain", "--scene-fd", ""], "--scenes 'curtain' needs a grid"),
