@@ -63,12 +63,12 @@ when its step decreases the potential, else takes its own. It needs every
 contact point to be a degree of freedom's own point (FD's nodes, its
 default); sample points between the nodes (FE's, and FD's under
 ``Contact(samples > 1)``, as the ``drape`` scene's) share their degrees of
-freedom, and there the direction stays Newton's. Measured on the ``sphere`` scene, FD 64 x 64
-nodes starting in contact (``deformable bench``): over the first 5 steps
-3.40 -> 2.40 Newton iterations a step (221.8 -> 167.5 ms a step), over the
-first 40 steps 5.60 -> 4.55 (393.8 -> 334.5 ms; there the draped cloth's
-folds, away from the ball, hold Newton back); FD 32 x 32 over the whole
-1.5 s, 6.36 -> 4.81 (43.0 -> 35.4 s).
+freedom, and there the direction stays Newton's. Measured on the ``sphere``
+scene, FD 64 x 64 nodes starting in contact (``deformable bench``): over the
+first 5 steps 3.40 -> 2.40 Newton iterations a step (221.8 -> 167.5 ms a
+step), over the first 40 steps 5.60 -> 4.55 (393.8 -> 334.5 ms; there the
+draped cloth's folds, away from the ball, hold Newton back); FD 32 x 32 over
+the whole 1.5 s, 6.36 -> 4.81 (43.0 -> 35.4 s).
 
 Friction (IPC section 5): lagged, smoothed Coulomb friction with coefficient
 mu_f. At the start of each step (positions x_n) every active pair gets its
@@ -266,8 +266,9 @@ def mollifier(y: np.ndarray, eps: float):
 def _normal_solve(k, rest, sN, d0, w, dhat, keep, iterations: int = 30):
     """Solve ``k (s - sN) + rest + w b'(d0 + s) = 0`` for s per point (:meth:`ContactPotential.relax`).
 
-    Convex in s (k >= 0, b'' > 0): Newton from s = sN (kept ``keep`` of the gap away from the obstacle), each step
-    keeping ``keep`` of the gap it starts from, until the steps are below 1e-6 of the gap. Returns s (P,).
+    The left side increases with s (k >= 0, b'' > 0: the 1-D energy is convex). Newton from s = sN, each iterate
+    keeping at least the fraction ``keep`` of the gap d0 + s it starts from (the start too, of d0), until every
+    step is below 1e-6 of its gap. All arrays (P,) (m, N/m, N); returns s (P,) (m).
     """
     s = np.maximum(sN, (keep - 1.0) * d0)
     for _ in range(iterations):
@@ -610,8 +611,8 @@ class ContactPotential:
         out = None
         for near, d, nrm, sN in moves:
             on = np.flatnonzero(near & (pairs == 1))
-            dof = own[on]
-            on, dof = on[np.all(k3[dof] > 0, axis=1)], dof[np.all(k3[dof] > 0, axis=1)]  # held: no stiffness
+            free = np.all(k3[own[on]] > 0, axis=1)  # a held degree of freedom has no stiffness
+            on, dof = on[free], own[on[free]]
             if on.size == 0:
                 continue
             n_, d0, sn, w = nrm[on], d[on], sN[on], self.weight[on]
