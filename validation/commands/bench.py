@@ -82,7 +82,8 @@ def configure(parser) -> None:
     parser.add_argument("--backend", default="fd", help="fd, fe or all (default: fd)")
     parser.add_argument("--sizes", default="32,64,128,256", help="semi-implicit rows: grid sizes n, n x n nodes "
                         "(default: 32,64,128,256)")
-    parser.add_argument("--steps", default="5", help="timed steps per row, after one warm-up step (default: 5)")
+    parser.add_argument("--steps", default="5", help="timed steps per semi-implicit and implicit row, after one "
+                        "warm-up step (default: 5)")
     # the row lists below run as given, whatever --backend says; unset, a backend --backend takes has its default
     parser.add_argument("--implicit-fd", default=None, metavar="N,...",
                         help="implicit rows, FD: nodes a side (default with --backend fd or all: 32,64,128); '' for "
@@ -417,8 +418,8 @@ def format_contact(rows) -> str:
     return markdown_table(
         ("backend", "grid", "unknowns", "contact points", "steps", "Newton / step, ball", "Newton / step, none",
          "step ms, ball", "step ms, none", "step ratio", "iteration ratio", "peak MB"),
-        [(r.backend, _grid(r), r.unknowns, r.contact_points, r.steps, f"{r.newton_contact:.2f}", f"{r.newton_free:.2f}",
-          f"{1e3 * r.step_contact:.1f}", f"{1e3 * r.step_free:.1f}", f"{r.step_ratio:.2f}",
+        [(r.backend, _grid(r), r.unknowns, r.contact_points, r.steps, f"{r.newton_contact:.2f}",
+          f"{r.newton_free:.2f}", f"{1e3 * r.step_contact:.1f}", f"{1e3 * r.step_free:.1f}", f"{r.step_ratio:.2f}",
           f"{r.iteration_ratio:.2f}", f"{r.peak_mb:.0f}") for r in rows])
 
 
