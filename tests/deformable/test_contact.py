@@ -187,6 +187,32 @@ def test_relax_solves_each_contact_normal_against_the_barrier():
     assert moved >= 10  # the check ran over the carried nodes
 
 
+def test_solved_normals_change_the_path_not_the_result(monkeypatch):
+    """A sheet dropped onto the ball, to a tight Newton tolerance, with the solved contact normals and with
+    Newton's own clipped directions: the same final state, to the tolerance; the solved ones were taken."""
+    ball = dm.Sphere(center=(0.5, 0.5, -0.3), radius=0.3)
+    model = make_model(drop_scene((8, 8), 2e-3, obstacles=(ball,)), "fd")
+    X0 = model.initial_state()
+    solved = []
+    relax = ct.ContactPotential.relax
+
+    def counted(self, x, dx, stiffness):
+        out = relax(self, x, dx, stiffness)
+        solved.append(out is not dx)
+        return out
+
+    def run():
+        return dm.TimeStepper(model, dt=5e-3, newton=dict(rtol=1e-10)).run(X0, t_end=0.1).state.X
+
+    monkeypatch.setattr(ct.ContactPotential, "relax", counted)
+    with_solved = run()
+    monkeypatch.setattr(ct.ContactPotential, "relax", lambda self, x, dx, stiffness: dx)
+    newton_only = run()
+    motion = np.max(np.abs(newton_only - X0))
+    assert motion > 0.01 and sum(solved) >= 10
+    assert np.max(np.abs(with_solved - newton_only)) <= 1e-8 * motion
+
+
 def test_relax_leaves_fe_directions_to_newton():
     """FE's contact points between the nodes share the nodes' degrees of freedom: relax returns the direction."""
     model, x, dx, stiffness, _ = relax_case("fe")
