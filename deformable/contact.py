@@ -342,7 +342,12 @@ class ContactPoints:
             density = np.zeros(model.points[0].shape + (3,))
             density[..., 0] = 1.0
             self.area = model.integrate(density)[np.asarray(model.value_dofs), 0]
-        self.W = sp.csr_matrix(model.point_matrix(self.a))
+        W = sp.csr_matrix(model.point_matrix(self.a))
+        # weights at round-off of zero (a neighbour's bilinear weight at a node, 4e-16) are zeros: a point at a node is
+        # that node's alone (ContactPotential.relax needs to know)
+        W.data[np.abs(W.data) <= 1e-12 * np.max(np.abs(W.data), initial=0.0)] = 0.0
+        W.eliminate_zeros()
+        self.W = W
         self.WT = self.W.T.tocsr()
         self.n, self.P = model.ndof, self.a.shape[0]
         self._gram = None
@@ -633,7 +638,7 @@ class ContactPotential:
             single = counts == 1
             own = np.full(W.shape[0], -1, np.int64)
             ok = single.copy()
-            ok[single] = W.data[first[single]] == 1.0
+            ok[single] = np.abs(W.data[first[single]] - 1.0) <= 1e-12
             own[ok] = W.indices[first[ok]]
             self._owner = own
         return self._owner

@@ -213,6 +213,17 @@ def test_solved_normals_change_the_path_not_the_result(monkeypatch):
     assert np.max(np.abs(with_solved - newton_only)) <= 1e-8 * motion
 
 
+@pytest.mark.parametrize("nodes", [5, 10, 34])
+def test_fd_contact_points_are_their_nodes_alone(nodes):
+    """W maps each FD contact point to its node with weight 1 and nothing else, also on grids whose
+    interpolation leaves neighbours weights at round-off (a 1 m sheet on 10 x 10 nodes: 44 of them, 4e-16),
+    so that relax sees every point."""
+    model = make_model(drop_scene((nodes, nodes), 0.01), "fd")
+    W = ct.contact_points(model).W
+    assert np.array_equal(np.diff(W.indptr), np.ones(nodes * nodes, int))
+    assert np.allclose(W.data, 1.0, rtol=0, atol=1e-12) and np.all(ct.ContactPotential(model)._own() >= 0)
+
+
 def test_relax_leaves_fe_directions_to_newton():
     """FE's contact points between the nodes share the nodes' degrees of freedom: relax returns the direction."""
     model, x, dx, stiffness, _ = relax_case("fe")
