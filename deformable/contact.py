@@ -47,8 +47,9 @@ carries towards an obstacle overshoots its equilibrium gap and is clipped
 deep into the barrier, and the iterations after climb back out at Newton's
 rate for a 1/d force from below, slowly (measured: the largest residual of a
 step's second and third iterations sat at points 0.01 dhat from the ball,
-whose equilibrium gap was 0.025 dhat). So in a time step, before the
-direction is clipped, each active contact point has its normal displacement
+whose equilibrium gap was 0.025 dhat). So in a time step (not in
+equilibrium, where no inertia bounds the 1-D models), before the direction
+is clipped, each active contact point has its normal displacement
 s re-solved from a 1-D model along its normal n: the rest of the Newton
 matrix by its diagonal k (inertia and elasticity, barrier excluded), the
 rest's force as Newton's linear model predicts it where the direction carries
