@@ -426,15 +426,14 @@ class Newton:
             if not newton:  # no descent (a stale factorisation): steepest descent, scaled like the step
                 d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
                 slope = float(g @ d)
-            plain = None  # with contact: the clipped Newton direction, when the solved normals replace it
+            plain = None  # with contact: Newton's own direction and slope, when the solved normals replace it
             if p.contact is not None:  # the contact normals solved against the barrier, then the safe step
                 dx = np.zeros_like(x)
                 dx[free] = d
                 if newton and cm > 0:  # the 1-D models need the inertia's stiffness (none in equilibrium)
                     solved = p.contact.relax(x, dx, self._stiffness)
                     if solved is not dx and float(g @ solved[free]) < 0:
-                        alpha = p.max_step(x, dx)
-                        plain = (alpha * d, alpha * slope)
+                        plain = (dx, d, slope)
                         dx, d, slope = solved, solved[free], float(g @ solved[free])
                 alpha = p.max_step(x, dx)
                 d, slope = alpha * d, alpha * slope
@@ -456,8 +455,10 @@ class Newton:
                     if new_ref:
                         ref[1] = fx
                     ft = phi(xt)
-                    if not ft <= fx + 1e-4 * slope:
-                        (d, slope), ft = plain, None
+                    if not ft <= fx + 1e-4 * slope:  # Newton's own step, clipped
+                        dx, d, slope = plain
+                        alpha = p.max_step(x, dx)
+                        d, slope, ft = alpha * d, alpha * slope, None
                         if new_ref:
                             ref[2:] = [d, slope]
                         xt = x.copy()
