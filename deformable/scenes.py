@@ -60,9 +60,9 @@ Scenes (paper section 5), and how they differ from the paper's text:
     limp cloth's folds, xi = 1e-5, follow the grid on every grid tried).
     Differences from the paper: its curtain is folded by "external forces
     perpendicular to the plane on the upper part" and its top restricted "to
-    the axis where it should slide"; here the top is drawn and may swing out of the rod's line
-    (held on a line, every top node would be a hinge at y = 0 and folds
-    would start at grid scale under the rod). The paper's perpendicular push
+    the axis where it should slide"; here the top is drawn and may swing out
+    of the rod's line (held on a line, every top node would be a hinge at
+    y = 0 and folds would start at grid scale under the rod). The paper's perpendicular push
     stays available (``push``; ``folds > 0`` gives it the earlier sin pattern,
     which selects the number of folds). ``rings = 1`` carries the top on
     hooks drawn together uniformly instead (``hooks`` their spacing): an

@@ -23,8 +23,8 @@ from validation.harness.surfaces import cylinder
 
 from . import damping, folds
 
-__all__ = ["Case", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields", "paper_config", "PAPER", "RUNAWAY_G",
-           "VISIBLE",
+__all__ = ["Case", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields",
+           "paper_config", "PAPER", "RUNAWAY_G", "VISIBLE",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
            "FOLD_SCENES", "scene_cases", "shipped_dt"]
 

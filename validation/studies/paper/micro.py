@@ -27,6 +27,7 @@ def _kept(run: dict) -> dict:
     """A run's record for results.json: without its final state and its wall time (a rerun writes the same file)."""
     return {k: v for k, v in run.items() if k not in ("final", "wall")}
 
+
 def measure(res, R, s) -> list[Claim]:
     """Claim 2 (section 3.2): eta_12 = xi_12 = 0, and alpha, beta given directly."""
     rows = []
