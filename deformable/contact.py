@@ -328,6 +328,9 @@ class ContactPoints:
         Parameter coordinates (m).
     W : sparse (P, ndof)
         ``r(a_p) = W @ X``.
+    owner : int array (P,)
+        The degree of freedom whose own point each is (W's row is that one alone, with weight 1: FD's nodes,
+        FE's at the nodes), else -1.
     area : array (P,)
         The area each point stands for (m^2): the backend's own weights where the contact points are its own
         points (FD's nodes: h1 h2, times the control-area weights when chosen), else the trapezoidal rule on
@@ -349,6 +352,11 @@ class ContactPoints:
         W.data[np.abs(W.data) <= 1e-12 * np.max(np.abs(W.data), initial=0.0)] = 0.0
         W.eliminate_zeros()
         self.W = W
+        single = np.flatnonzero(np.diff(W.indptr) == 1)  # rows of one weight; weight 1: the point is its dof's own
+        first = W.indptr[single]
+        one = np.abs(W.data[first] - 1.0) <= 1e-12
+        self.owner = np.full(W.shape[0], -1, np.int64)
+        self.owner[single[one]] = W.indices[first[one]]
         self.WT = self.W.T.tocsr()
         self.n, self.P = model.ndof, self.a.shape[0]
         self._gram = None
@@ -473,7 +481,6 @@ class ContactPotential:
         self.weight = self.kappa * self.points.area  # kappa A_p (N/m^3 m^2 = N/m)
         self._lagged: list[_Lagged] = []
         self._eps = None
-        self._owner = None
 
     def _positions(self, x) -> np.ndarray:
         return self.points.W @ x.reshape(3, self.n).T
@@ -601,7 +608,7 @@ class ContactPotential:
         elements 7.65 -> 8.30 Newton iterations a step over its 1.5 s). Points near two obstacles at once keep
         Newton's displacement.
         """
-        own = self._own()
+        own = self.points.owner
         if np.any(own < 0):
             return dx
         r, dr = self._positions(x), self._positions(dx)
@@ -628,21 +635,6 @@ class ContactPotential:
             out = dx.reshape(3, self.n).copy() if out is None else out
             np.add.at(out.T, dof, (s - sn)[:, None] * n_)
         return dx if out is None else out.ravel()
-
-    def _own(self) -> np.ndarray:
-        """Per contact point, the degree of freedom whose own point it is (W's row is that dof alone, weight 1), or
-        -1."""
-        if self._owner is None:
-            W = self.points.W
-            counts = np.diff(W.indptr)
-            first = W.indptr[:-1]
-            single = counts == 1
-            own = np.full(W.shape[0], -1, np.int64)
-            ok = single.copy()
-            ok[single] = np.abs(W.data[first[single]] - 1.0) <= 1e-12
-            own[ok] = W.indices[first[ok]]
-            self._owner = own
-        return self._owner
 
     def _point_steps(self, x, dx) -> np.ndarray:
         """Per contact point, the largest s in (0, 1] for which it stays ``margin`` of its gap away from every

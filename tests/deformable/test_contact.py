@@ -221,7 +221,7 @@ def test_fd_contact_points_are_their_nodes_alone(nodes):
     model = make_model(drop_scene((nodes, nodes), 0.01), "fd")
     W = ct.contact_points(model).W
     assert np.array_equal(np.diff(W.indptr), np.ones(nodes * nodes, int))
-    assert np.allclose(W.data, 1.0, rtol=0, atol=1e-12) and np.all(ct.ContactPotential(model)._own() >= 0)
+    assert np.allclose(W.data, 1.0, rtol=0, atol=1e-12) and np.all(ct.contact_points(model).owner >= 0)
 
 
 def test_relax_leaves_fe_directions_to_newton():
