@@ -11,7 +11,7 @@ One hierarchy, so that a caller can tell "you asked for something wrong" from
     |-- WriteError (an OSError)            a file system failure while writing (disk full, file-size limit)
     `-- NumericalError (a RuntimeError)    the numerics failed
         |-- DivergenceError, StalledError  (:mod:`deformable.dynamics`; ``state``: the last good one)
-        `-- ConvergenceError               (:mod:`deformable.newton`)
+        `-- ConvergenceError               (:mod:`deformable.solve.newton`)
 
 Every message of an :class:`InputError` names the field and the value it
 refuses, so the command line prints it as it is, in one line (exit code 2).

@@ -1,6 +1,6 @@
 """Write a run as an XDMF time series, then read it back with meshio and with pyvista.
 
-``deformable.output.XDMFWriter`` is a tracker of :class:`deformable.TimeStepper`:
+``deformable.io.XDMFWriter`` is a tracker of :class:`deformable.TimeStepper`:
 every ``every`` steps it writes one frame (node positions and the point
 fields G11, G12, G22 of eq. (4), B11, B12, B22 of eq. (8), speed,
 energy_density, the integrand of eq. (13), and displacement) to an .xdmf file
@@ -28,7 +28,7 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
-from deformable.output import XDMFWriter
+from deformable.io import XDMFWriter
 from fdmodel import FDModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
@@ -59,7 +59,7 @@ axes[0].plot(times, heights, "o-", ms=3)
 axes[0].set(xlabel="t (s)", ylabel="z (m)", title="free corner, read with meshio")
 
 # 3. pyvista: VTK's XDMF reader, the last time step as a mesh
-if not os.environ.get("DISPLAY"):  # headless: VTK renders through EGL (as deformable.output.render does)
+if not os.environ.get("DISPLAY"):  # headless: VTK renders through EGL (as deformable.io.render does)
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 try:
     import pyvista as pv

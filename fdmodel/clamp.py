@@ -43,7 +43,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.sheet import as_surface
+from deformable.geometry.surfaces import as_surface
 
 __all__ = ["GhostRows"]
 

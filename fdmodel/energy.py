@@ -49,7 +49,7 @@ validity mask and, for the control-area weighting, the trapezoidal share).
   never meets it.
 
 Each part is a set of points (nodes, cells) at which the integrand of
-:mod:`deformable.integrand` depends on a few *slot* vectors, each a
+:mod:`deformable.physics.integrand` depends on a few *slot* vectors, each a
 difference of the positions: :class:`SlotMap` computes them (one sparse
 product, plus the clamp's affine part) and carries the integrand's gradient
 back (its transpose). Every slot at node k (or at the cell whose lower-left
@@ -58,8 +58,8 @@ corner is k) combines the positions of at most six nodes, the stencil
 Hessian is assembled node by node as an 18 x 18 block (6 nodes x 3
 coordinates) ``C_k^T H_k C_k`` from the point Hessians H_k and the stencil
 coefficients C_k of all parts, summed on one fixed pattern
-(:class:`deformable.assembly.SymmetricElements`) by the compiled kernels of
-:mod:`deformable.kernels`: no sparse-sparse product per call. Stencil positions outside the grid carry zero coefficients (the
+(:class:`deformable.algebra.elements.SymmetricElements`) by the compiled kernels of
+:mod:`deformable.physics.kernels`: no sparse-sparse product per call. Stencil positions outside the grid carry zero coefficients (the
 natural boundary rule) and point at the node itself.
 
 Vectors are laid out coordinate by coordinate: flat index ``a * ndof + k`` for
@@ -73,9 +73,9 @@ from typing import Sequence
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.assembly import SymmetricElements
-from deformable.backend import Energy
-from deformable.integrand import HESSIANS, Integrand, slot_tensors
+from deformable.algebra.elements import SymmetricElements
+from deformable.physics.energy import Energy
+from deformable.physics.integrand import HESSIANS, Integrand, slot_tensors
 
 __all__ = ["DiscreteEnergy", "SlotMap", "HESSIANS", "STENCIL"]
 
@@ -92,7 +92,7 @@ class SlotMap:
         One operator per slot, in the order of ``layout``'s positions.
     shape : (M, N)
     layout : dict
-        Slot name -> position (:data:`deformable.integrand.FD_SLOTS` or ``FE_SLOTS``).
+        Slot name -> position (:data:`deformable.physics.integrand.FD_SLOTS` or ``FE_SLOTS``).
     offset : array (S, MN, 3), optional
         The affine part of the slots (the clamp's ghost rows, :mod:`fdmodel.clamp`); zero by default.
 
@@ -189,7 +189,7 @@ class DiscreteEnergy:
 
         ``kind``: "newton" (exact; may be indefinite, e.g. under compression),
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
-        or "projected" (:mod:`deformable.integrand`).
+        or "projected" (:mod:`deformable.physics.integrand`).
         """
         pat, n = self.pattern, self.n  # an unknown kind: InputError from the integrand
         upper = np.zeros((n, pat.upper[0].size))

@@ -12,7 +12,7 @@ On the M x N node grid (:mod:`fdmodel.operators`):
 The normal at a node is ``(D1 r x D2 r)/|.|`` with forward differences, backward
 where a forward difference would leave the grid (docs/design.md).
 
-Rows are integrated (the backend contract, :mod:`deformable.backend`): each
+Rows are integrated (the backend contract, :mod:`deformable.backends`): each
 row of the paper's pointwise equations stands for a cell area h1 h2, so
 M = h1 h2 diag(mu), C = h1 h2 diag(gamma), F = h1 h2 f at the node and
 K = h1 h2 K_paper. Mass, damping and loads are pointwise as in the paper
@@ -54,9 +54,10 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.backend import Energy, Sample, kinetic_energy
-from deformable.constraints import Clamp, hold
-from deformable.elasticity import (
+from deformable.backends.contract import Sample, check_scene
+from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
+from deformable.geometry.surfaces import as_surface
+from deformable.physics.elasticity import (
     QuadraticEnergy,
     alpha,
     beta,
@@ -64,11 +65,11 @@ from deformable.elasticity import (
     require_energy_gradient,
     require_strength_matrix,
 )
-from deformable.integrand import FD_SLOTS, FE_SLOTS, Integrand
-from deformable.loads import Loads
-from deformable.resources import check_scene
-from deformable.scene import Scene
-from deformable.sheet import CELL_CORNERS, as_surface, bilinear, bilinear_weights
+from deformable.physics.energy import Energy, kinetic_energy
+from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, Integrand
+from deformable.physics.loads import Loads
+from deformable.scene.constraints import Clamp, hold
+from deformable.scene.scene import Scene
 
 from .clamp import GhostRows
 from .energy import DiscreteEnergy, SlotMap
@@ -331,7 +332,7 @@ class FDModel:
         return self._C
 
     def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21) at time t, (M N, 3), integrated over each node's cell (N) (:mod:`deformable.loads`).
+        """F of eq. (21) at time t, (M N, 3), integrated over each node's cell (N) (:mod:`deformable.physics.loads`).
 
         Body forces f h1 h2 (times the control-area weight when chosen; the
         paper's pointwise value otherwise), edge tractions q times the node's
@@ -341,7 +342,7 @@ class FDModel:
         """
         return self.loads.total(X, t, V)
 
-    # -- the hooks of deformable.loads ---------------------------------------
+    # -- the hooks of deformable.physics.loads ---------------------------------------
     def integrate(self, density: np.ndarray) -> np.ndarray:
         """A density (N/m^2) at the nodes, (M, N, 3), times each node's area: (M N, 3) (N)."""
         w = self.h1 * self.h2 * self.area_weight

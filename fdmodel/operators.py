@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from deformable import tensors
+from deformable.geometry import tensors
 
 __all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "cell_tangents",
            "node_derivatives", "node_tensors", "valid_rows"]

@@ -14,7 +14,7 @@ area inside the sheet for the control-area weighting, :mod:`fdmodel.model`).
 Assembly: K's data array is linear in the 7 node fields (alpha_11, alpha_12,
 alpha_21, alpha_22, beta_11, beta_12 + beta_21, beta_22), so a sparse matrix
 P that maps them to K.data is built once on the fixed pattern of all the
-operator products (:class:`deformable.assembly.FixedPattern`); each refill
+operator products (:class:`deformable.algebra.patterns.FixedPattern`); each refill
 is one sparse mat-vec ``K.data = P w``. When the bending weights vanish
 everywhere the pattern holds the membrane stencil only, so the factorisation
 does not pay for explicit zeros of the bending one.
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.assembly import FixedPattern
+from deformable.algebra.patterns import FixedPattern
 
 __all__ = ["StrengthMatrix", "TERMS"]
 

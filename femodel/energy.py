@@ -12,14 +12,14 @@ at the Gauss points q of every element e (w_q: Gauss weight times element
 area). At a Gauss point r depends on the 48 local degrees of freedom only
 through the five vectors ``(r_1, r_2, r_11, r_12, r_22)``,
 ``v_k = sum_l X_l D_k[l, q]`` with the basis tables ``D_k`` of
-:func:`femodel.hermite.basis`: the *slots* of :mod:`deformable.integrand`
+:func:`femodel.hermite.basis`: the *slots* of :mod:`deformable.physics.integrand`
 (with the normal's tangents equal to the metric's), which gives the
 integrand, its gradient p and its Hessian H per point. They are carried to the
 element by ``D``: gradient ``g_e[l] = sum_{q,k} D_k[l, q] p_k``, Hessian
 ``K_e[l, m] = sum_{q,k,k'} D_k[l, q] H_{kk'} D_k'[m, q]``, summed on a fixed
-pattern (:class:`deformable.assembly.SymmetricElements` over the 48 = 3 x 16
+pattern (:class:`deformable.algebra.elements.SymmetricElements` over the 48 = 3 x 16
 local degrees of freedom of an element): point Hessians by the compiled
-kernel of :mod:`deformable.kernels`, element blocks by two dense products.
+kernel of :mod:`deformable.physics.kernels`, element blocks by two dense products.
 
 Vectors and matrices are coordinate-blocked: flat index ``a * ndof + k`` for
 coordinate a of degree of freedom k.
@@ -30,10 +30,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.assembly import SymmetricElements, element_vectors
-from deformable.backend import Energy
-from deformable.integrand import FE_SLOTS, HESSIANS, Integrand, for_blocks, slot_tensors
-from deformable.linalg import one_blas_thread
+from deformable.algebra.elements import SymmetricElements, element_vectors
+from deformable.algebra.solvers import one_blas_thread
+from deformable.physics.energy import Energy
+from deformable.physics.integrand import FE_SLOTS, HESSIANS, Integrand, for_blocks, slot_tensors
 
 from .hermite import DERIVATIVES, evaluate
 
@@ -141,7 +141,7 @@ class DiscreteEnergy:
 
         ``kind``: "newton" (exact; may be indefinite, e.g. under compression),
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
-        or "projected" (:mod:`deformable.integrand`).
+        or "projected" (:mod:`deformable.physics.integrand`).
         """
         v = slots(X, self.ldofs, self.dq)
         pat, nq, E = self.pattern, self.nq, self.ldofs.shape[0]

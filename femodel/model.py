@@ -87,10 +87,12 @@ import scipy.sparse as sp
 import skfem
 from skfem.quadrature import get_quadrature_line
 
-from deformable.assembly import element_vectors
-from deformable.backend import Energy, Sample, kinetic_energy
-from deformable.constraints import hold
-from deformable.elasticity import (
+from deformable.algebra.elements import element_vectors
+from deformable.backends.contract import Sample, check_scene
+from deformable.geometry.sheet import bilinear
+from deformable.geometry.surfaces import as_surface
+from deformable.geometry.tensors import frame
+from deformable.physics.elasticity import (
     QuadraticEnergy,
     alpha,
     beta,
@@ -98,12 +100,11 @@ from deformable.elasticity import (
     require_energy_gradient,
     require_strength_matrix,
 )
-from deformable.integrand import FE_SLOTS, slot_tensors
-from deformable.loads import Loads
-from deformable.resources import check_scene
-from deformable.scene import Scene
-from deformable.sheet import as_surface, bilinear
-from deformable.tensors import frame
+from deformable.physics.energy import Energy, kinetic_energy
+from deformable.physics.integrand import FE_SLOTS, slot_tensors
+from deformable.physics.loads import Loads
+from deformable.scene.constraints import hold
+from deformable.scene.scene import Scene
 
 from .energy import DiscreteEnergy, gauss_tensors
 from .hermite import DERIVATIVES, LOCAL, NODE_DOFS, basis, evaluate
@@ -374,7 +375,7 @@ class FEModel:
         return self._C
 
     def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis (:mod:`deformable.loads`).
+        """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis (:mod:`deformable.physics.loads`).
 
         Body densities (Gravity, BodyForce) and wind by the 4 x 4 Gauss rule
         (the wind with the exact normal of the element surface and the
@@ -384,7 +385,7 @@ class FEModel:
         """
         return self.loads.total(self._check_state(X), t, V)
 
-    # -- the hooks of deformable.loads ---------------------------------------
+    # -- the hooks of deformable.physics.loads ---------------------------------------
     def integrate(self, density: np.ndarray) -> np.ndarray:
         """integral f phi_k of a density f (N/m^2) at the Gauss points, (E, nq, 3): (ndof, 3) (N)."""
         f = np.asarray(density).reshape(*self.a1q.shape, 3) * self.weights[:, None]  # (E, nq, 3)

@@ -22,7 +22,7 @@ field sampled at the quadrature points are one dense product
 (136 = the upper triangle of a symmetric 16 x 16 matrix), and the global
 data array on the fixed CSR pattern is one sparse product ``data = S k`` with
 a 0/1 scatter matrix S built once
-(:class:`deformable.assembly.SymmetricElements`). No sparse-sparse products
+(:class:`deformable.algebra.elements.SymmetricElements`). No sparse-sparse products
 and no change of pattern between steps. :class:`StrengthMatrix` holds the
 tables and turns alpha, beta at the Gauss points into K.
 """
@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.assembly import SymmetricElements
+from deformable.algebra.elements import SymmetricElements
 
 __all__ = ["membrane", "bending", "mass", "StrengthMatrix", "MEMBRANE", "BENDING"]
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
 from validation.harness.backends import make_model
 
 #: the four edges of the parameter rectangle: pinned together, a simply supported sheet

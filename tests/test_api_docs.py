@@ -15,7 +15,7 @@ def test_the_api_reference_builds_without_warnings_and_covers_every_module(tmp_p
     assert [str(w.message) for w in caught] == []
     assert index.exists()
     names = script["modules"]()
-    assert {"deformable.scenes", "deformable.loads", "fdmodel.model", "femodel.model",
+    assert {"deformable.scenes", "deformable.physics.loads", "fdmodel.model", "femodel.model",
             "validation.commands.run"} <= set(names)
     for name in names:
         page = tmp_path.joinpath(*name.split(".")).with_suffix(".html")

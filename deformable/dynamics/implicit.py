@@ -3,7 +3,7 @@ r"""Implicit time steps for models with an energy (the "variational" and "frozen
 For a model whose internal force is the gradient of an energy E (the exact
 gradient of eq. (13), or the quadratic energy of the frozen model), each step
 minimises an incremental potential over the free degrees of freedom by
-Newton's method (:class:`deformable.newton.Newton`). With M, C, F the
+Newton's method (:class:`deformable.solve.newton.Newton`). With M, C, F the
 backend's integrated matrices and load and x-hat = x_n + dt v_n:
 
 - ``"implicit-euler"`` (first order, dissipative: with gamma = 0 and no load the
@@ -20,7 +20,7 @@ backend's integrated matrices and load and x-hat = x_n + dt v_n:
 
 The stationarity of Phi is the equation of motion (11) at t_{n+1} in each scheme.
 
-External forces (:mod:`deformable.loads`): applied loads are F_{n+1}; the
+External forces (:mod:`deformable.physics.loads`): applied loads are F_{n+1}; the
 scene's springs are part of E (their anchors at t_{n+1}); the wind, which
 depends on velocities, is linearised about the start of the step,
 ``f(v) = f_n - D_n (v - v_n)`` with its velocity Jacobian D_n (a positive
@@ -48,7 +48,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from ..newton import ConvergenceError, FlatEnergy, Newton, NewtonSettings, flat, unflat
+from ..solve.newton import ConvergenceError, Newton, NewtonSettings
+from ..solve.potential import FlatEnergy, flat, unflat
 from .state import DivergenceError, State
 
 __all__ = ["Implicit", "IMPLICIT_SCHEMES", "StepRejected"]
@@ -72,7 +73,7 @@ class Implicit:
     model : Backend with an energy (force model "variational" or "frozen")
     scheme : "implicit-euler" | "newmark"
     newton : NewtonSettings or dict, optional
-        rtol, atol, max_iter, hessian, solver, reuse (:class:`deformable.newton.NewtonSettings`).
+        rtol, atol, max_iter, hessian, solver, reuse (:class:`deformable.solve.newton.NewtonSettings`).
 
     Attributes
     ----------

@@ -6,20 +6,20 @@ r"""The paper's semi-implicit step of the semi-discrete system (21), eq. (22)-(2
     V_t = (R_t - R_{t-dt})/dt.                                    (27)
 
 The stiffness is lagged (evaluated at r_t) and the force at t, so each step
-is one linear solve. Written once over the :class:`~deformable.backend.Backend`
+is one linear solve. Written once over the :class:`~deformable.backends.Backend`
 contract; backends differ only in space.
 
 Numerics (docs/design.md): for one undamped linear mode of frequency w the
 amplification per step is ``(1 + w^2 dt^2)^(-1/2)`` and the phase advance
 ``atan(w dt)``: first order in time, numerically damped. Lagging alpha makes
 the step only conditionally stable on stretching: dt below the backend's
-:meth:`~deformable.backend.Backend.stable_step` (FD: about ``h sqrt(mu / (2 eta G))``).
+:meth:`~deformable.backends.Backend.stable_step` (FD: about ``h sqrt(mu / (2 eta G))``).
 
 Cost: K(r) keeps its sparsity pattern, so A_t lives on one fixed pattern
-whose data is refilled each step (:class:`deformable.assembly.ReducedSystem`);
+whose data is refilled each step (:class:`deformable.algebra.reduced.ReducedSystem`);
 constrained degrees of freedom are eliminated through precomputed gathers;
 each group of coordinates that shares its constraints is factorised once per
-step (:mod:`deformable.linalg`: SuperLU with a symmetric ordering, or PARDISO
+step (:mod:`deformable.algebra.solvers`: SuperLU with a symmetric ordering, or PARDISO
 when installed) and solved for all its right-hand sides together. When the
 model is linear (the "frozen" force model) the factorisation is done once for
 the run.
@@ -37,9 +37,9 @@ import time
 
 import numpy as np
 
-from ..assembly import ReducedSystem
-from ..contact import Repulsion
-from ..linalg import SPLU_OPTIONS, make_solver
+from ..algebra.reduced import ReducedSystem
+from ..algebra.solvers import SPLU_OPTIONS, make_solver
+from ..contact.repulsion import Repulsion
 from .state import DivergenceError, State
 
 __all__ = ["SemiImplicit", "SPLU_OPTIONS"]
@@ -54,7 +54,7 @@ class SemiImplicit:
     dt : float
         Time step (s).
     solver : str
-        "auto", "superlu" or "pardiso" (:func:`deformable.linalg.make_solver`).
+        "auto", "superlu" or "pardiso" (:func:`deformable.algebra.solvers.make_solver`).
 
     Attributes
     ----------

@@ -17,7 +17,7 @@ The old name of the paper's scheme, ``"tpbf87"`` (also a force model's name),
 is still accepted with a DeprecationWarning.
 
 Step size. ``dt="auto"`` takes the semi-implicit scheme's stable step from the
-backend (half of :meth:`~deformable.backend.Backend.stable_step`, rounded
+backend (half of :meth:`~deformable.backends.Backend.stable_step`, rounded
 down to two significant digits); the implicit schemes are stable at any dt, and "auto"
 lets them choose it: at most ten times the stretching bound of an explicit
 step on the same grid, smaller while Newton needs many iterations
@@ -48,10 +48,10 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
+from ..algebra.solvers import one_blas_thread
 from ..checks import count, real
-from ..elasticity import stretching_step
 from ..errors import InputError, ResourceError
-from ..linalg import one_blas_thread
+from ..physics.elasticity import stretching_step
 from .implicit import IMPLICIT_SCHEMES, Implicit, StepRejected
 from .semi_implicit import SemiImplicit
 from .state import DivergenceError, RunResult, StalledError, State
@@ -102,7 +102,7 @@ class TimeStepper:
         for models with an energy (:mod:`deformable.dynamics.implicit`).
     newton : dict or NewtonSettings, optional
         rtol, atol, max_iter, hessian, solver, reuse of the Newton solves of the
-        implicit schemes (:class:`deformable.newton.NewtonSettings`).
+        implicit schemes (:class:`deformable.solve.newton.NewtonSettings`).
     dt_min : float, optional
         The smallest step the implicit schemes may adapt down to (default dt / 2^10).
     solver : str
@@ -122,8 +122,8 @@ class TimeStepper:
 
     def __init__(self, model, dt, scheme: str | None = None, newton=None, dt_min: float | None = None,
                  solver: str = "auto"):
-        from ..linalg import SOLVERS
-        from ..scene import Scene
+        from ..algebra.solvers import SOLVERS
+        from ..scene.scene import Scene
 
         if not isinstance(getattr(model, "scene", None), Scene):
             raise InputError(f"model must be a backend (FDModel, FEModel), got {model!r}", field="model", value=model)
@@ -190,7 +190,7 @@ class TimeStepper:
 
     @property
     def newton(self):
-        """The :class:`deformable.newton.Newton` of an implicit scheme (None for the semi-implicit one)."""
+        """The :class:`deformable.solve.newton.Newton` of an implicit scheme (None for the semi-implicit one)."""
         return getattr(self._scheme, "newton", None)
 
     @property

@@ -1,12 +1,12 @@
 """The FD discrete energy (13) and its derivatives (fdmodel.energy) under the control-area weighting.
 
-The pointwise weighting's derivatives are checked with the contract (tests/deformable/test_backend.py).
+The pointwise weighting's derivatives are checked with the contract (tests/deformable/backends/test_contract.py).
 """
 
 import pytest
 
 import deformable as dm
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 

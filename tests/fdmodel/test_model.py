@@ -1,6 +1,6 @@
 """FDModel (fdmodel.model): what only the finite-difference backend promises.
 
-The contract both backends share is tests/deformable/test_backend.py.
+The contract both backends share is tests/deformable/backends/test_contract.py.
 """
 
 import contextlib

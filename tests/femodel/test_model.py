@@ -1,6 +1,6 @@
 r"""FEModel (femodel.model): what only the finite-element backend promises, and its analytic benchmarks.
 
-The contract both backends share is tests/deformable/test_backend.py. Benchmarks of the linearised model:
+The contract both backends share is tests/deformable/backends/test_contract.py. Benchmarks of the linearised model:
 
 - Prestressed membrane (tpbf87, flat sheet, G0 = 0.81 I, so alpha = eta (1 - 0.81) I, beta = 0): the
   transverse operator is -alpha (w_11 + w_22), so with pinned edges the (1, 1) mode has
@@ -20,7 +20,7 @@ import pytest
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
 from femodel import ELEMENTS, FEModel
 from validation.harness.orders import fit_order
 from validation.studies.statics import navier_centre

@@ -5,4 +5,4 @@ import pytest
 
 @pytest.fixture(autouse=True)
 def one_gigabyte(monkeypatch):
-    monkeypatch.setattr("deformable.resources.available_memory", lambda: 1e9)
+    monkeypatch.setattr("deformable.limits.available_memory", lambda: 1e9)

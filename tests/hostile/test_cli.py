@@ -18,7 +18,7 @@ import pytest
 
 from deformable import scenes
 from deformable.dynamics import DivergenceGuard, TimeStepper
-from deformable.output.folder import LOCK
+from deformable.io.folder import LOCK
 from validation.commands import main
 from validation.harness.backends import make_model
 

@@ -322,7 +322,7 @@ def _singular(*args, **kwargs):
 
 
 def _singular_pardiso(*args, **kwargs):
-    from deformable.linalg import SingularMatrix
+    from deformable.algebra.solvers import SingularMatrix
 
     raise SingularMatrix("PARDISO: failed")  # what the wrapper makes of a PyPardisoError
 
@@ -336,8 +336,8 @@ def test_a_singular_step_matrix_ends_the_run_as_diverged_never_a_scipy_error(bac
     stepper = dm.TimeStepper(model, 1e-3)
     first = stepper.run(model.initial_state(), steps=2)
     monkeypatch.setattr("scipy.sparse.linalg.splu", _singular)
-    monkeypatch.setattr("deformable.linalg.spla.splu", _singular)
-    monkeypatch.setattr("deformable.linalg.Pardiso.factor", _singular_pardiso)
+    monkeypatch.setattr("deformable.algebra.solvers.spla.splu", _singular)
+    monkeypatch.setattr("deformable.algebra.solvers.Pardiso.factor", _singular_pardiso)
     bent = dm.State(t=first.state.t, X=first.state.X + 0.05 * np.random.default_rng(1).standard_normal(
         first.state.X.shape), V=first.state.V, step=2)  # elastic forces: Newton has to factorise
     fresh = dm.TimeStepper(model, 1e-3)  # no factorisation to reuse

@@ -14,7 +14,7 @@ in the same run: one factorisation of the same matrix
 
 reduced to the free degrees of freedom, and one solve with 3 right-hand sides
 (x, y, z), by ``scipy.sparse.linalg.splu`` with its default options (COLAMD),
-and by the stepper's own solver (:mod:`deformable.linalg`). The ratio step /
+and by the stepper's own solver (:mod:`deformable.algebra.solvers`). The ratio step /
 (factor + solve) says what the step costs beyond the linear algebra.
 
 Implicit rows (the energy-consistent model). The ``curtain`` scene as it
@@ -62,10 +62,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from deformable import scenes
+from deformable.algebra.solvers import make_solver
 from deformable.dynamics import TimeStepper
 from deformable.errors import InputError
-from deformable.linalg import make_solver
-from deformable.newton import flat
+from deformable.solve.potential import flat
 from validation.harness.backends import make_model
 from validation.harness.report import markdown_table
 
@@ -175,7 +175,7 @@ def _best(fn, repeats: int = 3) -> float:
 def direct_solve_time(A, rhs, solver=None, repeats: int = 3) -> tuple[float, float]:
     """Best of ``repeats`` of one factorisation of A and one solve of rhs: (factor s, solve s).
 
-    ``solver``: one of :mod:`deformable.linalg` (default: ``splu`` with SciPy's default options).
+    ``solver``: one of :mod:`deformable.algebra.solvers` (default: ``splu`` with SciPy's default options).
     """
     if solver is None:
         lu = spla.splu(sp.csc_matrix(A))
@@ -400,7 +400,7 @@ def bench_contact(backend: str, n: int, steps: int, solver: str = "auto") -> Con
     """Time ``steps`` steps of the sphere scene in contact, and of the same scene without its ball."""
     import dataclasses
 
-    from deformable.contact import contact_points
+    from deformable.contact.points import contact_points
 
     base = _config("sphere", backend, n)
     cfg = base.replace(gap=0.5 * base.contact.distance)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import warnings
 
-from deformable.compatibility import IncompatibleRestState, check_rest_state
+from deformable.geometry.compatibility import IncompatibleRestState, check_rest_state
 from deformable.scenes import build
 
 from .run import _Error, parse_grid, scene_config

@@ -22,12 +22,12 @@ scheme; options on the command line still override).
 
 Output folders. The default ``--out`` is ``runs/<scene>``, or ``runs/<scene>-2``, ...
 when that already holds results. A run never mixes with another run's
-results (:mod:`deformable.output.folder`): an ``--out`` holding them is refused
+results (:mod:`deformable.io.folder`): an ``--out`` holding them is refused
 unless ``--overwrite`` is given (they are then removed first), and a lock keeps
 two runs out of one folder.
 
 The time stepping is eq. (22)-(27) (:class:`deformable.TimeStepper`); the
-output is written as the run goes (:mod:`deformable.output`), so a killed run
+output is written as the run goes (:mod:`deformable.io`), so a killed run
 keeps its frames. ``--steps N`` means: run until step N (a resumed run ends at
 the same step as the uninterrupted one); ``--t-end T`` likewise ends at time T,
 exactly (the last step is shortened where T is not a whole number of steps).
@@ -66,14 +66,15 @@ from pathlib import Path
 
 import deformable
 from deformable import scenes
-from deformable.contact import clearance, require_outside
+from deformable.contact.points import clearance, require_outside
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
-from deformable.output import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
-from deformable.output.folder import RunFolder, fresh, write_text
-from deformable.output.render import FIELDS, render_series
-from deformable.resources import check_series
-from deformable.scene import FORCE_MODELS
+from deformable.io import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
+from deformable.io.folder import RunFolder, fresh, write_text
+from deformable.io.render import FIELDS, render_series
+from deformable.limits import check_series
+from deformable.scene.scene import FORCE_MODELS
+from validation.harness import drape
 from validation.harness.backends import BACKENDS, backend_dt, make_model
 
 __all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "simulate",
@@ -85,6 +86,8 @@ log = logging.getLogger(__name__)
 RUN_KEYS = ("backend", "scheme", "steps", "every", "version")
 #: the default frame interval (s of simulated time)
 DEFAULT_EVERY = 0.02
+#: a line on a run's final state, by scene: what the scene measures (the drape coefficient)
+MEASURES = {"drape": drape.final_line}
 
 
 class _Error(InputError):
@@ -442,7 +445,6 @@ def execute(args) -> int:
         if run.clearance:
             print(f"{cfg.scene}: smallest clearance over {len(run.clearance)} steps {min(run.clearance):.3g} m "
                   f"(final {run.clearance[-1]:.3g} m)")
-        report = scenes.SCENES[cfg.scene].report
-        if report is not None:
-            print(f"{cfg.scene}: {report(cfg, run.model, result.state.X)}")
+        if cfg.scene in MEASURES:
+            print(f"{cfg.scene}: {MEASURES[cfg.scene](cfg, run.model, result.state.X)}")
     return 0 if result.status != "diverged" else 1

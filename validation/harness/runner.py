@@ -33,7 +33,7 @@ one thing that could differ between processes is the number of BLAS / MKL
 threads of a reduction; Dask's workers run one (its ``pre-spawn-environ``),
 and so do the pool's (:func:`_start_worker`). SuperLU is single-threaded,
 and PARDISO runs in MKL's conditional numerical reproducibility mode
-(:mod:`deformable.linalg`): without it a factorisation on one MKL thread
+(:mod:`deformable.algebra.solvers`): without it a factorisation on one MKL thread
 differs in the last bits from one on two (FE 6 x 6 nodes), so nothing is
 pinned in this process. Dask sets its workers' variables
 (``OMP_NUM_THREADS=1``, ``PYTHONHASHSEED``, ...) in this process to spawn
@@ -96,7 +96,7 @@ def _distributed():
 def _start_worker(parent: int | None) -> None:
     """Pool-worker initializer: a worker computes on one core, and ends with the process that made it.
 
-    One core: OMP_NUM_THREADS = 1 (the Hessian's threads, :func:`deformable.integrand.hessian_threads`, and
+    One core: OMP_NUM_THREADS = 1 (the Hessian's threads, :func:`deformable.physics.integrand.hessian_threads`, and
     MKL's in a worker that loads it later) and one thread for the BLAS and MKL this process has loaded already
     (threadpoolctl), as Dask's workers have; the pool has at most a worker per core. Without it each worker of
     ``--jobs 2`` ran two Hessian threads and two MKL threads on the machine's two cores.

@@ -2,7 +2,7 @@ r"""Analytic surfaces with closed-form derivatives, G (eq. 4), B (eq. 8) and Gau
 
 Each :class:`AnalyticSurface` gives r and its first and second derivatives in
 closed form on a parameter rectangle; G and B follow from them through
-:mod:`deformable.tensors`, and surfaces with a textbook answer (plane,
+:mod:`deformable.geometry.tensors`, and surfaces with a textbook answer (plane,
 cylinder, sphere, torus) also carry that answer (``G_exact``, ``B_exact``,
 ``K_exact``) so the two can be checked against each other.
 
@@ -16,7 +16,7 @@ from typing import Callable
 
 import numpy as np
 
-from deformable import tensors
+from deformable.geometry import tensors
 
 __all__ = ["AnalyticSurface", "SURFACES", "monge", "cylinder", "get"]
 
@@ -44,7 +44,7 @@ class AnalyticSurface:
     description: str = ""
 
     def derivatives(self, a1, a2):
-        """dr (3, 2, *S) and ddr (3, 2, 2, *S) in the layout of deformable.tensors."""
+        """dr (3, 2, *S) and ddr (3, 2, 2, *S) in the layout of deformable.geometry.tensors."""
         m = lambda f: np.moveaxis(f(a1, a2), -1, 0)  # noqa: E731
         r1, r2, r11, r12, r22 = m(self.r1), m(self.r2), m(self.r11), m(self.r12), m(self.r22)
         dr = np.stack([r1, r2], axis=1)

@@ -1,6 +1,6 @@
 r"""Study ``compatibility``: the paper's compatibility test (section 3.2, eq. 10) on (G, B) fields.
 
-Uses :func:`deformable.compatibility.check_compatibility` (Gauss equation by
+Uses :func:`deformable.geometry.compatibility.check_compatibility` (Gauss equation by
 Brioschi's formula against det B / det G, both Mainardi-Codazzi residuals,
 and the paper's comparison of (r_11)_2 with (r_12)_1 and (r_22)_1 with
 (r_12)_2 in the frame (r_1, r_2, n): ratio of magnitudes and cosine of the
@@ -28,7 +28,12 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from deformable.compatibility import IncompatibleRestState, check_compatibility, check_rest_state, warn_if_incompatible
+from deformable.geometry.compatibility import (
+    IncompatibleRestState,
+    check_compatibility,
+    check_rest_state,
+    warn_if_incompatible,
+)
 from validation.harness import surfaces as sf
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order

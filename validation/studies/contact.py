@@ -23,7 +23,7 @@ of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
    Reported: the largest rise and fall of E over the run against the energy
    of the fall, m g h (the model's own weight times h); checked: implicit
    Euler's E never rises (it dissipates), Newmark's error falls with dt.
-4. Drape. The Cusick drape test (:mod:`deformable.drape`) under refinement
+4. Drape. The Cusick drape test (:mod:`validation.harness.drape`) under refinement
    (FD 9, 17, 33 nodes a side; FE 4, 8, 16 elements a side at quick levels;
    four contact points per cell side, the scene's), each run to t = 1.5 s.
    Expectation: the changes between levels fall (reported with the observed
@@ -40,8 +40,8 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
-from deformable.newton import flat
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
+from deformable.solve.potential import flat
 from validation.harness.backends import make_model
 from validation.harness.orders import pairwise_orders
 from validation.harness.study import Levels, Study, Table, nodes_at
@@ -181,8 +181,8 @@ class DrapeCase:
 
 def run_drape(case: DrapeCase) -> dict:
     """The drape scene on nodes x nodes, run to t_end: its drape coefficient and smallest clearance."""
-    from deformable.contact import contact_points
-    from deformable.drape import drape_coefficient
+    from deformable.contact.points import contact_points
+    from validation.harness.drape import drape_coefficient
 
     cfg = scenes.config("drape", nodes=(case.nodes, case.nodes))
     model = make_model(scenes.build(cfg), case.backend)
@@ -288,7 +288,7 @@ def fill(res, levels: int, runner) -> None:
         "coefficient moved by 4e-4 between t = 1.25 and 1.5 s (a slow swing of the corners, damped), the size "
         "of the finest changes; the convergence check compares every level at the same t. The observed orders "
         "(log2 of the ratio of successive changes) are not asymptotic orders where the last change has the other "
-        "sign. The shadow's area is extrapolated from two rasters (deformable.drape): the raw 4096-pixel one "
+        "sign. The shadow's area is extrapolated from two rasters (validation.harness.drape): the raw 4096-pixel one "
         "was 2.4e-4 to 6.0e-4 too high, as much as the finest changes.")
 
 

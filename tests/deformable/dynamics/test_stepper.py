@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import deformable as dm
-from deformable.newton import NewtonSettings
+from deformable.solve.newton import NewtonSettings
 
 from ...conftest import flat_model
 
@@ -154,7 +154,7 @@ def test_a_run_whose_steps_never_converge_stalls_with_its_last_good_state():
 def test_results_do_not_depend_on_the_solver_or_the_ordering_beyond_the_tolerance(backend):
     """The same implicit run with every solver at hand, and SuperLU with the COLAMD ordering instead of the
     symmetric one: the final states agree to the Newton tolerance (rtol 1e-10 here)."""
-    from deformable import linalg
+    from deformable.algebra import solvers as linalg
 
     model = curling(backend, nodes=(7, 3))
     X0 = model.initial_state()

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from deformable import scenes
-from deformable.output import load_checkpoint
+from deformable.io import load_checkpoint
 from validation.commands import build_parser, main
 from validation.commands.run import prepare, simulate
 from validation.harness.backends import make_model
@@ -49,7 +49,7 @@ def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, cap
 
 
 def test_render_writes_pngs_and_a_gif(tmp_path, capsys):
-    """The frames themselves are checked in tests/deformable/output/test_render.py."""
+    """The frames themselves are checked in tests/deformable/io/test_render.py."""
     code, out, err = _run(["hanging", "--grid", "8x8", "--steps", "4", "--every", "0.01", "--render", "--field",
                            "energy_density", "--out", str(tmp_path)], capsys)
     assert code == 0, err

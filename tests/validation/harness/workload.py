@@ -22,8 +22,8 @@ def threads(_):
     """(Hessian threads, the largest thread count of a BLAS or MKL loaded here) in the process that runs this."""
     from threadpoolctl import threadpool_info
 
-    from deformable.integrand import hessian_threads
-    from deformable.linalg import available, make_solver
+    from deformable.algebra.solvers import available, make_solver
+    from deformable.physics.integrand import hessian_threads
 
     if "pardiso" in available():
         make_solver("pardiso")  # MKL loaded here, if this process had not yet

@@ -1,7 +1,7 @@
 """Study ``contact``: its experiments on small grids, each against what holds for it.
 
 - every contact scene keeps a positive clearance at every step, on both backends (the 5 m/s drop, with
-  every trial point of the line search, is in tests/deformable/test_contact.py);
+  every trial point of the line search, is in tests/deformable/contact/test_potential.py);
 - a sheet on an inclined plane sticks 1 degree below the friction angle and slides 1 degree above it with
   g (sin a - mu cos a) (within 2%);
 - a frictionless undamped drop: implicit Euler's total energy never rises.

@@ -1,7 +1,7 @@
 """Study ``variational``: the exact gradient of eq. (13) against the paper's force (14).
 
 The whole study runs under ``slow`` (about 20 s at its smallest level count). The default run checks its
-cases directly: the curling strip's orders are tests/deformable/test_equilibrium.py; here the elastica
+cases directly: the curling strip's orders are tests/deformable/solve/test_equilibrium.py; here the elastica
 reference, the paper's force on the curling strip and a scene far above the paper's xi limit.
 """
 

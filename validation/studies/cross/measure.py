@@ -8,7 +8,7 @@ each backend is measured at the same relative position in its cells at every lev
 the second derivatives of a bicubic interpolant converge at O(h^3) at the two-point Gauss points and
 O(h^2) elsewhere, so points that move relative to the cells (e.g. Gauss points of the coarsest cells)
 bias the observed orders (measured: FE's B "converged" at 2.6 through them). FD is measured by the
-bilinear interpolation of its node values that :meth:`~deformable.backend.Backend.sample` defines
+bilinear interpolation of its node values that :meth:`~deformable.backends.Backend.sample` defines
 (second order at any point).
 
 - the L2 norm over the sheet, ``(sum_p w_p |f(a_p) - g(a_p)|^2)^(1/2)``, each point weighing a quarter of

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import deformable as dm
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
 from validation.harness.backends import make_model
 from validation.harness.study import Table
 

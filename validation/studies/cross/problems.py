@@ -48,7 +48,7 @@ import numpy as np
 from scipy.integrate import solve_bvp
 
 import deformable as dm
-from deformable.sheet import Plane
+from deformable.geometry.surfaces import Plane
 
 __all__ = ["CANTILEVER", "LOADS", "CLAMPED_CENTRE", "NEWTON", "material", "cantilever", "elastica_tip",
            "plate", "linear_plate", "hanging", "flag", "VERTICAL"]

@@ -16,8 +16,8 @@ import scipy.linalg as sla
 
 import deformable as dm
 from deformable import scenes
+from deformable.algebra.solvers import one_blas_thread
 from deformable.dynamics.stepper import round_down
-from deformable.linalg import one_blas_thread
 from validation.harness.backends import make_model
 from validation.harness.surfaces import cylinder
 

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.linalg as sla
 
 import deformable as dm
-from deformable.linalg import one_blas_thread
+from deformable.algebra.solvers import one_blas_thread
 from validation.harness.backends import BACKENDS, make_model
 from validation.harness.study import Table
 

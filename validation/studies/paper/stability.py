@@ -6,7 +6,7 @@ The linearisation (docs/design.md) explains both boundaries:
   largest eigenvalue of the membrane operator per unit alpha against the mass
   (FD ``4/h^2``, FE bicubic Hermite about ``91/h^2``, computed here), the step
   is stable for ``dt < sqrt(2 mu / (eta G lambda_m))``
-  (:func:`deformable.elasticity.stretching_step`), i.e.
+  (:func:`deformable.physics.elasticity.stretching_step`), i.e.
   ``eta < eta_c = 2 mu / (G lambda_m dt^2)``;
 - bending: about a flat sheet with B0 = 0 tpbf87 has no linear bending
   stiffness; about a curved state the normal stiffness along a_i is
@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from deformable.elasticity import stretching_step
+from deformable.physics.elasticity import stretching_step
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 

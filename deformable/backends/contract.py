@@ -1,0 +1,144 @@
+r"""The contract both discretisations satisfy (docs/design.md, "The backend contract").
+
+A backend turns a :class:`~deformable.scene.Scene` into the semi-discrete
+system (21), ``M R'' + C R' + e(R) = F``, over ``ndof`` degrees of freedom
+per coordinate; a state X is an ``(ndof, 3)`` array (x, y, z columns share
+one scalar discretisation). Everything the time stepper, the output writer,
+the scenes and the validation harness use of a backend is here; nothing
+above the backends reads anything else of them.
+
+One unit convention for both backends: every row is *integrated* over the
+area a degree of freedom stands for. M and C are in kg and kg/s, F and the
+internal force in N, K in N/m, the energy (13) in J and its gradient in N.
+(The FD rows of the paper are per unit area; FD multiplies them by the cell
+area h1 h2, so its ``stiffness(X) / (h1 h2)`` is the paper's K(r) of eq. (20).)
+
+Coordinate-blocked vectors (the Hessians, the implicit schemes): index
+``a * ndof + k`` for coordinate a of degree of freedom k.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import InputError
+from ..limits import check_memory
+from ..physics.energy import Energy
+from ..physics.loads import Loads
+from ..scene.scene import Scene
+
+__all__ = ["Backend", "EnergyBackend", "Sample", "check_scene", "memory_estimate", "BYTES_PER_NODE"]
+
+
+@dataclass(frozen=True)
+class Sample:
+    """Surface quantities at P parameter points: r (P, 3), G (P, 2, 2), B (P, 2, 2)."""
+
+    r: np.ndarray
+    G: np.ndarray
+    B: np.ndarray
+
+
+@runtime_checkable
+class Backend(Protocol):
+    """What a discretisation offers: geometry, the system (21), the energy (13) and its derivatives.
+
+    Attributes
+    ----------
+    scene : Scene
+    ndof : int
+        Degrees of freedom per coordinate.
+    linear : bool
+        True when K does not depend on X (the "frozen" force model).
+    spacing : (h1, h2)
+        The grid spacings (scene units): node spacing (FD), element sides (FE).
+    value_dofs : int array (M N,)
+        The rows of X that hold the node positions, node (m, n) at m N + n:
+        ``grid(X) == X[value_dofs].reshape(M, N, 3)``.
+    points : (a1, a2), two arrays of shape (*pts)
+        The parameter coordinates of the backend's own points, where
+        :meth:`tensors` evaluates G and B (FD: the nodes, (M, N); FE: the
+        Gauss points, (elements, points per element)).
+    mu : array (*pts)
+        The mass density at the points (kg/m^2).
+    loads : deformable.physics.loads.Loads
+        The scene's external forces over the hooks below: applied loads,
+        springs (their energy, gradient, Hessian) and wind (its force and
+        velocity Jacobian).
+    contact_samples : int
+        Contact points per cell side by default (:mod:`deformable.contact`):
+        FD 1 (its nodes), FE 2 (a sub-grid of spacing h / 2).
+    """
+
+    scene: Scene
+    ndof: int
+    linear: bool
+    spacing: tuple[float, float]
+    value_dofs: np.ndarray
+    points: tuple[np.ndarray, np.ndarray]
+    mu: np.ndarray
+    loads: Loads
+    contact_samples: int
+
+    # -- geometry
+    def initial_state(self) -> np.ndarray: ...
+    def discretize(self, surface) -> np.ndarray: ...
+    def grid(self, X: np.ndarray) -> np.ndarray: ...
+    def tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
+    def sample(self, X: np.ndarray, a: np.ndarray) -> Sample: ...
+
+    # -- the semi-discrete system (21), integrated rows
+    def stiffness(self, X: np.ndarray) -> sp.csr_matrix: ...
+    def mass(self) -> sp.csr_matrix: ...
+    def damping(self) -> sp.csr_matrix: ...
+    def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray: ...
+    def internal_force(self, X: np.ndarray) -> np.ndarray: ...
+    def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+    def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray: ...
+    def stable_step(self) -> float: ...
+
+    # -- the energy (13)
+    def energy(self, X: np.ndarray) -> Energy: ...
+    def kinetic_energy(self, V: np.ndarray) -> float: ...
+    def energy_gradient(self, X: np.ndarray) -> np.ndarray: ...
+    def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix: ...
+
+    # -- the hooks of deformable.physics.loads: integration at the backend's own points
+    def integrate(self, density: np.ndarray) -> np.ndarray: ...
+    def at_points(self, X: np.ndarray, d: tuple[int, int] = (0, 0)) -> np.ndarray: ...
+    def density_matrix(self, c: np.ndarray) -> sp.csr_matrix: ...
+    def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]: ...
+    def edge_load(self, force, t: float) -> np.ndarray: ...
+
+    # -- the hook of deformable.contact: r at parameter points a (P, 2) as a fixed sparse matrix, r(a) = W @ X
+    def point_matrix(self, a) -> sp.csr_matrix: ...
+
+
+#: the former name of the contract's energy part; every backend has it now
+EnergyBackend = Backend
+
+
+#: peak memory per node (bytes) of a model and its step, by (backend, "implicit" | "semi-implicit"); measured,
+#: rounded up (FD variational 49-60 kB, FD tpbf87 9-12 kB, FE variational 280-310 kB, FE tpbf87 45-55 kB)
+BYTES_PER_NODE = {("fd", "implicit"): 64e3, ("fd", "semi-implicit"): 16e3,
+                  ("fe", "implicit"): 340e3, ("fe", "semi-implicit"): 64e3}
+
+
+def memory_estimate(nodes, backend: str, force_model: str = "variational") -> float:
+    """Bytes a model of ``nodes`` = (M, N) on ``backend`` ("fd" | "fe") and its time step need (an estimate)."""
+    kind = "implicit" if force_model == "variational" else "semi-implicit"
+    M, N = nodes
+    return BYTES_PER_NODE[backend, kind] * float(M) * float(N)
+
+
+def check_scene(scene, backend: str) -> None:
+    """What a backend checks before it allocates anything: a Scene, whose grid fits in memory on ``backend``."""
+    if not isinstance(scene, Scene):
+        raise InputError(f"a {backend.upper()} model needs a Scene, got {scene!r}", field="scene", value=scene)
+    M, N = scene.sheet.nodes
+    check_memory(scene.sheet.nodes, memory_estimate((1, 1), backend, scene.force_model),
+                 f"a {M}x{N} grid on the {backend} backend ({scene.force_model} model)")

@@ -1,0 +1,23 @@
+"""Rigid obstacles and the sheet's contact with them.
+
+- :mod:`.obstacles`: the shapes, their exact signed distances and safe steps;
+- :mod:`.settings`: :class:`Contact`, how the sheet meets them;
+- :mod:`.points`: where the sheet may touch (contact points), and the clearance;
+- :mod:`.barrier`: the IPC barrier and friction mollifier as functions of a distance;
+- :mod:`.potential`: the barrier and lagged friction potential, its safe steps and the solved contact normals
+  (the direction filter Newton's method takes from here);
+- :mod:`.repulsion`: the paper's (TPBF87's) exponential obstacle force.
+
+Imports the ground floor, :mod:`deformable.geometry`, :mod:`deformable.algebra` and :mod:`deformable.physics`.
+"""
+
+from .barrier import barrier, barrier_derivative, barrier_second, mollifier
+from .obstacles import OBSTACLES, Box, Cylinder, HalfSpace, Obstacle, Plane, Sphere, from_table, to_table
+from .points import ContactPoints, clearance, contact_points, require_outside, subgrid
+from .potential import ContactPotential
+from .repulsion import Repulsion
+from .settings import METHODS, Contact, weight_per_area
+
+__all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table",
+           "Contact", "METHODS", "weight_per_area", "ContactPoints", "subgrid", "contact_points", "require_outside",
+           "clearance", "barrier", "barrier_derivative", "barrier_second", "mollifier", "ContactPotential", "Repulsion"]

@@ -1,0 +1,372 @@
+r"""Rigid obstacles: exact signed distances, their derivatives, and the largest safe step along a motion.
+
+Every obstacle is a closed convex solid written as an *inner* convex set K
+inflated by a rounding radius r >= 0 (its Minkowski sum with a ball of radius
+r), so that its signed distance is
+
+    d(x) = sd_K(x) - r                      (positive outside, negative inside; m)
+
+with sd_K the signed distance to K. For x outside K, ``sd_K(x) = |x - P_K(x)|``
+(P_K the closest point of K), ``grad d = n = (x - P_K(x)) / |x - P_K(x)|`` is
+the outward unit normal and ``hess d = (I - n n^T)(I - DP_K) / |x - P_K(x)|``,
+positive semi-definite with ``hess d n = 0``. The shapes:
+
+- :class:`HalfSpace` ``(point, normal)``: K the half-space itself (r = 0),
+  d = n . (x - p); also reached as ``deformable.contact.obstacles.Plane`` (the
+  :class:`deformable.geometry.surfaces.Plane` of the rest shapes is another thing, a
+  surface, not an obstacle);
+- :class:`Sphere` ``(center, radius)``: K a point, r the radius;
+- :class:`Box` ``(lower, upper, rounding)``: an axis-aligned box with edges
+  and corners rounded by ``rounding``; K the box shrunk by it;
+- :class:`Cylinder` ``(center, radius, height, axis, rounding)``: a capped
+  cylinder (a round table), its rim rounded by ``rounding``.
+
+Box and cylinder share one formula, the signed distance to a box of half
+extents e in local coordinates p (3-D for the box, (rho, z) for the
+cylinder): with q = |p| - e componentwise and o = max(q, 0),
+
+    sd = |o| + min(max_i q_i, 0),   grad = sign(p) o / |o|,   hess = (diag(q > 0) - grad grad^T) / |o|
+
+outside (|o| > 0), and the inward face normal, zero Hessian, inside. A sphere
+is that box with e = 0.
+
+Safe steps. The sheet must never cross an obstacle between two iterates of
+Newton's method (Li et al. 2020, "Incremental Potential Contact", ACM TOG
+39(4), section 4: a line search filtered by continuous collision detection).
+Along a segment x + t dx the signed distance phi(t) = d(x + t dx) of a convex
+obstacle is a convex function of t. So Newton's iteration on phi(t) = L from
+t = 0 (where phi > L) climbs monotonically to the first root from below: every
+iterate is itself a safe step, none overshoots, and the convergence is
+quadratic where phi is smooth. :meth:`Obstacle.first_contact` returns that
+root (to round-off; infinity when phi never reaches L): the exact largest step
+along a displacement that keeps every point at distance L or more. A
+non-convex obstacle would need another root finder.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+import numpy as np
+
+from ..physics.forces import _vector as finite_vector
+
+__all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table"]
+
+#: Newton iterations of :meth:`Obstacle.first_contact` (quadratic convergence needs a handful)
+_ROOT_ITERATIONS = 60
+
+
+def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
+    v = finite_vector(f"{owner}.{name}", value)
+    if unit:
+        norm = float(np.linalg.norm(v))
+        if norm == 0:
+            raise ValueError(f"{owner}.{name} must be non-zero, got {value!r}")
+        if abs(norm - 1) > 4 * np.finfo(float).eps:  # a unit vector stays as it is (a table reads back equal)
+            v = v / norm
+    return tuple(float(c) for c in v)
+
+
+def _length(owner: str, name: str, value, positive: bool = True) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or (
+            value <= 0 if positive else value < 0):
+        raise ValueError(f"{owner}.{name} must be a finite {'positive' if positive else 'non-negative'} number "
+                         f"(m), got {value!r}")
+    return float(value)
+
+
+def box_distance(p: np.ndarray, e: np.ndarray, hessian: bool = True):
+    """Signed distance to the box |p_i| <= e_i in local coordinates, its gradient and Hessian.
+
+    Parameters
+    ----------
+    p : array (P, k)
+        Points relative to the box centre (k = 2 or 3).
+    e : array (k,)
+        Half extents, >= 0 (e = 0: a point).
+    hessian : bool
+        Also the Hessian (else None).
+
+    Returns
+    -------
+    sd (P,), grad (P, k), hess (P, k, k) or None
+    """
+    s = np.where(p < 0, -1.0, 1.0)
+    q = np.abs(p) - e
+    o = np.maximum(q, 0.0)
+    ro = np.sqrt(np.sum(o * o, axis=1))
+    out = ro > 0
+    inner = np.max(q, axis=1)
+    sd = ro + np.minimum(inner, 0.0)
+    grad = np.zeros_like(p)
+    grad[out] = s[out] * o[out] / ro[out, None]
+    inside = np.flatnonzero(~out)
+    face = np.argmax(q[inside], axis=1)
+    grad[inside, face] = s[inside, face]
+    hess = None
+    if hessian:
+        hess = np.zeros(p.shape + (p.shape[1],))
+        mask = ((q > 0) | (e == 0)).astype(float)
+        g = grad[out]
+        hess[out] = (mask[out][:, :, None] * np.eye(p.shape[1]) - g[:, :, None] * g[:, None, :]) / ro[out, None, None]
+    return sd, grad, hess
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """A rigid convex obstacle (module docstring); subclasses give :meth:`derivatives`.
+
+    Every method takes points x as an array (P, 3) in scene units (m).
+    """
+
+    kind: ClassVar[str] = ""
+
+    def derivatives(self, x: np.ndarray, hessian: bool = True):
+        """Signed distance d (P,) (m), its gradient n (P, 3) (the outward unit normal) and Hessian (P, 3, 3) (1/m).
+
+        With ``hessian=False`` the Hessian is None.
+        """
+        raise NotImplementedError
+
+    def distance(self, x: np.ndarray) -> np.ndarray:
+        """Signed distance (P,) (m): positive outside, negative inside."""
+        return self.derivatives(np.asarray(x, float).reshape(-1, 3), hessian=False)[0]
+
+    def first_contact(self, x: np.ndarray, dx: np.ndarray, level=0.0, t_max: float = 1.0) -> np.ndarray:
+        """The first t > 0 at which d(x + t dx) reaches ``level``, per point (module docstring).
+
+        Parameters
+        ----------
+        x, dx : arrays (P, 3)
+            Start points (with d(x) > level) and their displacements (m).
+        level : float or array (P,)
+            The distance not to go below (m).
+        t_max : float
+            Roots beyond t_max are not refined: such points get infinity.
+
+        Returns
+        -------
+        t : array (P,)
+            The root, approached from below (every value returned is a safe
+            step), or infinity where d stays above ``level`` on [0, t_max].
+        """
+        x = np.asarray(x, float).reshape(-1, 3)
+        dx = np.asarray(dx, float).reshape(-1, 3)
+        level = np.broadcast_to(np.asarray(level, float), (x.shape[0],))
+        t = np.full(x.shape[0], np.inf)
+        d0 = self.distance(x)
+        speed = np.sqrt(np.sum(dx * dx, axis=1))
+        # d is 1-Lipschitz: a point whose gap exceeds its whole travel cannot reach the level
+        idx = np.flatnonzero(d0 - level <= speed * t_max)
+        ti = np.zeros(idx.size)
+        tol = 1e-13 * np.maximum(np.abs(level[idx]) + speed[idx], 1e-300)
+        for _ in range(_ROOT_ITERATIONS):
+            if idx.size == 0:
+                break
+            d, n, _ = self.derivatives(x[idx] + ti[:, None] * dx[idx], hessian=False)
+            gap = d - level[idx]
+            slope = np.sum(n * dx[idx], axis=1)
+            done = gap <= tol
+            never = ~done & (slope >= 0)  # convex phi, rising: it never comes down to the level
+            t[idx[done]] = ti[done]
+            step = np.where(never | done, 0.0, gap / np.where(slope < 0, -slope, 1.0))
+            ti = ti + step
+            beyond = ti > t_max
+            keep = ~(done | never | beyond)
+            idx, ti, tol = idx[keep], ti[keep], tol[keep]
+        t[idx] = ti  # not converged to round-off within the iterations: still a safe step
+        return t
+
+    def table(self) -> dict:
+        """The obstacle as a TOML table: ``kind`` and its fields."""
+        out = {"kind": self.kind}
+        for f in fields(self):
+            out[f.name] = getattr(self, f.name)
+        return out
+
+
+@dataclass(frozen=True)
+class HalfSpace(Obstacle):
+    """The solid half-space behind a plane: d = normal . (x - point); ``normal`` points out of the solid.
+
+    Parameters
+    ----------
+    point : 3-vector
+        A point of the plane (m).
+    normal : 3-vector
+        The outward normal (normalised here).
+    """
+
+    point: tuple = (0.0, 0.0, 0.0)
+    normal: tuple = (0.0, 0.0, 1.0)
+    kind: ClassVar[str] = "plane"
+
+    def __post_init__(self):
+        object.__setattr__(self, "point", _vector("HalfSpace", "point", self.point))
+        object.__setattr__(self, "normal", _vector("HalfSpace", "normal", self.normal, unit=True))
+
+    def derivatives(self, x, hessian: bool = True):
+        x = np.asarray(x, float).reshape(-1, 3)
+        n = np.asarray(self.normal)
+        d = (x - np.asarray(self.point)) @ n
+        return d, np.broadcast_to(n, x.shape).copy(), np.zeros(x.shape + (3,)) if hessian else None
+
+
+#: the obstacle plane under its name in the issue; ``deformable.contact.obstacles.Plane``, not the rest-shape Plane of sheet.py
+Plane = HalfSpace
+
+
+@dataclass(frozen=True)
+class Sphere(Obstacle):
+    """A solid ball: d = |x - center| - radius.
+
+    Parameters
+    ----------
+    center : 3-vector (m)
+    radius : float (m), positive
+    """
+
+    center: tuple = (0.0, 0.0, 0.0)
+    radius: float = 1.0
+    kind: ClassVar[str] = "sphere"
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _vector("Sphere", "center", self.center))
+        object.__setattr__(self, "radius", _length("Sphere", "radius", self.radius))
+
+    def derivatives(self, x, hessian: bool = True):
+        x = np.asarray(x, float).reshape(-1, 3)
+        sd, g, H = box_distance(x - np.asarray(self.center), np.zeros(3), hessian)
+        return sd - self.radius, g, H
+
+
+@dataclass(frozen=True)
+class Box(Obstacle):
+    """An axis-aligned solid box [lower, upper] with edges and corners rounded by ``rounding``.
+
+    Parameters
+    ----------
+    lower, upper : 3-vectors (m), lower < upper componentwise
+    rounding : float (m), 0 <= rounding <= half the shortest side
+    """
+
+    lower: tuple = (-0.5, -0.5, -0.5)
+    upper: tuple = (0.5, 0.5, 0.5)
+    rounding: float = 0.0
+    kind: ClassVar[str] = "box"
+
+    def __post_init__(self):
+        lo, hi = _vector("Box", "lower", self.lower), _vector("Box", "upper", self.upper)
+        if not all(a < b for a, b in zip(lo, hi)):
+            raise ValueError(f"Box.lower must lie below Box.upper in every coordinate, got {lo!r} and {hi!r}")
+        r = _length("Box", "rounding", self.rounding, positive=False)
+        if r > 0.5 * min(b - a for a, b in zip(lo, hi)):
+            raise ValueError(f"Box.rounding must be at most half the shortest side, got {r!r}")
+        object.__setattr__(self, "lower", lo)
+        object.__setattr__(self, "upper", hi)
+        object.__setattr__(self, "rounding", r)
+
+    def derivatives(self, x, hessian: bool = True):
+        x = np.asarray(x, float).reshape(-1, 3)
+        lo, hi = np.asarray(self.lower), np.asarray(self.upper)
+        sd, g, H = box_distance(x - 0.5 * (lo + hi), 0.5 * (hi - lo) - self.rounding, hessian)
+        return sd - self.rounding, g, H
+
+
+@dataclass(frozen=True)
+class Cylinder(Obstacle):
+    """A solid capped cylinder (a round table): |z| <= height / 2 along ``axis``, radius ``radius`` across.
+
+    Parameters
+    ----------
+    center : 3-vector (m)
+        The centre of the cylinder (half way up).
+    radius, height : float (m), positive
+    axis : 3-vector
+        The cylinder's axis (normalised here).
+    rounding : float (m), 0 <= rounding <= min(radius, height / 2)
+        Radius of the rounded rims.
+    """
+
+    center: tuple = (0.0, 0.0, 0.0)
+    radius: float = 0.5
+    height: float = 0.1
+    axis: tuple = (0.0, 0.0, 1.0)
+    rounding: float = 0.0
+    kind: ClassVar[str] = "cylinder"
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _vector("Cylinder", "center", self.center))
+        object.__setattr__(self, "axis", _vector("Cylinder", "axis", self.axis, unit=True))
+        R = _length("Cylinder", "radius", self.radius)
+        H = _length("Cylinder", "height", self.height)
+        r = _length("Cylinder", "rounding", self.rounding, positive=False)
+        if r > min(R, 0.5 * H):
+            raise ValueError(f"Cylinder.rounding must be at most min(radius, height / 2), got {r!r}")
+        object.__setattr__(self, "radius", R)
+        object.__setattr__(self, "height", H)
+        object.__setattr__(self, "rounding", r)
+
+    def derivatives(self, x, hessian: bool = True):
+        x = np.asarray(x, float).reshape(-1, 3)
+        a = np.asarray(self.axis)
+        u = x - np.asarray(self.center)
+        z = u @ a
+        w = u - z[:, None] * a
+        rho = np.sqrt(np.sum(w * w, axis=1))
+        safe = np.maximum(rho, 1e-300)
+        er = np.where(rho[:, None] > 0, w / safe[:, None], _perpendicular(a))
+        e = np.array([self.radius - self.rounding, 0.5 * self.height - self.rounding])
+        sd, g2, H2 = box_distance(np.stack([rho, z], axis=1), e, hessian)
+        g = g2[:, :1] * er + g2[:, 1:] * a
+        H = None
+        if hessian:
+            B = np.stack([er, np.broadcast_to(a, er.shape)], axis=2)  # (P, 3, 2): d(rho, z)/dx
+            H = np.einsum("pik,pkl,pjl->pij", B, H2, B)
+            # the radial direction turns with x: grad_rho-part g_rho (I - a a^T - er er^T) / rho
+            turn = np.eye(3) - np.outer(a, a) - er[:, :, None] * er[:, None, :]
+            H += np.where(rho > 0, g2[:, 0] / safe, 0.0)[:, None, None] * turn
+        return sd - self.rounding, g, H
+
+
+def _perpendicular(a: np.ndarray) -> np.ndarray:
+    """A unit vector perpendicular to the unit vector a."""
+    e = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    p = e - (e @ a) * a
+    return p / np.linalg.norm(p)
+
+
+#: TOML ``kind`` -> obstacle class
+OBSTACLES = {cls.kind: cls for cls in (HalfSpace, Sphere, Box, Cylinder)}
+
+
+def from_table(table, source: str = "obstacle") -> Obstacle:
+    """An obstacle from a TOML table ``{kind = "sphere", center = [...], radius = ...}``.
+
+    Raises
+    ------
+    ValueError
+        Not a table, a missing or unknown ``kind``, an unknown key (named with the known ones), a bad value.
+    """
+    if isinstance(table, Obstacle):
+        return table
+    if not isinstance(table, dict):
+        raise ValueError(f"{source} must be a table with a kind ({', '.join(OBSTACLES)}), got {table!r}")
+    table = dict(table)
+    kind = table.pop("kind", None)
+    if kind not in OBSTACLES:
+        raise ValueError(f"{source} needs kind = one of {', '.join(map(repr, OBSTACLES))}, got {kind!r}")
+    cls = OBSTACLES[kind]
+    known = [f.name for f in fields(cls)]
+    for key in table:
+        if key not in known:
+            raise ValueError(f"unknown key {key!r} in {source} of kind {kind!r}; known keys: kind, {', '.join(known)}")
+    return cls(**table)
+
+
+def to_table(obstacle: Obstacle) -> dict:
+    """The TOML table of an obstacle (:meth:`Obstacle.table`)."""
+    return obstacle.table()

@@ -1,0 +1,308 @@
+r"""Run output: an XDMF time series for ParaView.
+
+:class:`XDMFWriter` is a :class:`deformable.Tracker` that writes, every
+``every`` steps, one frame of an XDMF 3 time series (meshio's layout, HDF5
+heavy data beside the .xdmf). The mesh is the node grid as quads, stored in
+the first frame and included by the others; each frame carries its own
+geometry (the sheet moves; ParaView's XDMF3 reader shows it as is) and the
+point fields
+
+- ``G11, G12, G22``: the metric of eq. (4)-(5) (FD: eq. (18)),
+- ``B11, B12, B22``: the curvature of eq. (8) (FD: eq. (19)),
+- ``speed``: |r_t| (m/s), from the stepper's V of eq. (27),
+- ``energy_density``: the integrand of eq. (13),
+  ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2`` (J/m^2)
+  (:func:`deformable.physics.elasticity.energy_density`),
+- ``displacement``: r - r(start of the run) (m), so readers that keep the
+  first geometry (meshio's TimeSeriesReader) recover the positions; a resumed
+  run measures it from the original start, not from the resume point.
+
+Cadence. A frame every ``every`` steps, or every ``interval`` seconds of
+simulated time (the first step at or past each multiple of the interval, so
+the number of frames does not depend on the backend's dt), plus the first and
+the last state. Frame times are the step times rounded to 12 significant
+digits, which removes the round-off of summing dt (2.0, not
+1.9999999999998905). Each frame says what it is in an XDMF ``Information``
+element (``frame``: ``first``, ``cadence`` or ``last``), which readers skip.
+
+Resume. ``append=True`` continues an existing series: the frames after the
+state the run resumes from are dropped, and so is a ``last`` frame at it,
+so that the continued series equals the one an uninterrupted run writes,
+frame by frame, in one file a ParaView user opens.
+
+Everything is taken through the backend protocol: ``model.grid`` for positions
+and velocities at the nodes, ``model.sample`` at the node coordinates for G and
+B, so the writer serves the FD and the FE backend alike.
+
+The .xdmf (XML) file is rewritten, and the HDF5 file flushed, after every
+frame, so a run that is killed keeps every frame written before. The folder
+is created as needed. A frame that would not fit (the free disk space, or the
+file-size limit of ``ulimit -f``) is refused before HDF5 writes any of it, and
+a failed write raises :class:`~deformable.errors.WriteError` naming the file;
+the frames written before stay readable. (HDF5 cannot recover from a write that
+fails half-way: the process would crash when the file is closed.)
+(meshio's own TimeSeriesWriter writes the XML only on exit, and puts the .h5
+file in the working directory; this writer fixes both.)
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+
+from ..checks import count, real
+from ..dynamics.trackers import Tracker
+from ..errors import InputError, WriteError
+from ..limits import DATASET_BYTES, check_room
+from ..physics.elasticity import energy_density
+
+__all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time"]
+
+log = logging.getLogger(__name__)
+
+
+class NodeFields:
+    """Computes the point fields of one state at the nodes of the sheet's grid.
+
+    Parameters
+    ----------
+    model : a :class:`deformable.Backend`
+    """
+
+    def __init__(self, model):
+        self.model = model
+        scene = model.scene
+        sheet = scene.sheet
+        self.nodes = M, N = sheet.nodes
+        a1, a2 = sheet.coordinates()
+        self.a = np.column_stack([a1.ravel(), a2.ravel()])  # (M N, 2), node (m, n) at row m N + n
+        rest = model.sample(model.discretize(sheet.rest), self.a)
+        G0, B0 = scene.rest_tensors(a1.ravel(), a2.ravel(), _components_first(rest.G), _components_first(rest.B))
+        self.G0, self.B0 = G0, B0  # (2, 2, P)
+        mat = scene.material
+        self.eta = mat.tensor("eta", (M, N)).reshape(2, 2, -1)  # (2, 2, P)
+        self.xi = mat.tensor("xi", (M, N)).reshape(2, 2, -1)
+        # quads of the node grid, counter-clockwise in (a1, a2)
+        idx = np.arange(M * N).reshape(M, N)
+        self.cells = np.column_stack([idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(),
+                                      idx[:-1, 1:].ravel()])
+
+    def positions(self, X) -> np.ndarray:
+        """Node positions (M N, 3) in m."""
+        return np.asarray(self.model.grid(X), float).reshape(-1, 3)
+
+    def __call__(self, X, V) -> dict[str, np.ndarray]:
+        """Point fields of state (X, V): name -> (M N,) array."""
+        s = self.model.sample(X, self.a)
+        G, B = s.G, s.B
+        vel = np.asarray(self.model.grid(V), float).reshape(-1, 3)
+        stretching, bending = energy_density(self.eta, self.xi, _components_first(G), self.G0,
+                                             _components_first(B), self.B0)
+        density = stretching + bending
+        return {
+            "G11": G[:, 0, 0], "G12": G[:, 0, 1], "G22": G[:, 1, 1],
+            "B11": B[:, 0, 0], "B12": B[:, 0, 1], "B22": B[:, 1, 1],
+            "speed": np.linalg.norm(vel, axis=1), "energy_density": density,
+        }
+
+
+def node_fields(model, X, V) -> dict[str, np.ndarray]:
+    """The point fields of the module docstring for one state: name -> (M N,) array."""
+    return NodeFields(model)(X, V)
+
+
+def _components_first(T: np.ndarray) -> np.ndarray:
+    """(P, 2, 2) -> (2, 2, P)."""
+    return np.moveaxis(T, 0, -1)
+
+
+def frame_time(t: float) -> float:
+    """A step time as a frame's time: rounded to 12 significant digits (the round-off of summing dt removed)."""
+    return float(f"{float(t):.12g}")
+
+
+class XDMFWriter(Tracker):
+    """Write an XDMF time series: a frame every ``every`` steps or ``interval`` seconds, and the first and last state.
+
+    Parameters
+    ----------
+    path : str or Path
+        The .xdmf file; the heavy data goes to the .h5 file of the same stem beside it. Its folder is
+        created if needed.
+    every : int
+        Cadence in steps (default 1), when no ``interval`` is given.
+    interval : float, optional
+        Cadence in simulated time (s): a frame at the first step at or past each multiple of it.
+    reference : array (ndof, 3), optional
+        The positions ``displacement`` is measured from (default: the first state's); a resumed run
+        passes its original start.
+    append : bool
+        Continue the series at ``path`` from the state the run starts at (module docstring); without a
+        series there, start one.
+    """
+
+    def __init__(self, path, every: int = 1, *, interval: float | None = None, reference=None, append: bool = False):
+        self.path = Path(path)
+        if self.path.suffix != ".xdmf":
+            raise InputError(f"XDMFWriter.path must end in .xdmf, got {str(path)!r}", field="path", value=str(path))
+        self.h5_path = self.path.with_suffix(".h5")
+        self.interval = None if interval is None else real("XDMFWriter.interval", interval, positive=True)
+        self.every = 1 if self.interval is not None else count("XDMFWriter.every", every)
+        self._step_cadence = count("XDMFWriter.every", every)
+        self.reference = None if reference is None else np.array(reference, dtype=float)
+        self.append = bool(append)
+        self.frames = 0
+        self._h5 = None
+        self._last_step = None
+
+    # -- XML -------------------------------------------------------------------
+    def _data_item(self, parent, array: np.ndarray):
+        name = f"data{self._counter}"
+        self._counter += 1
+        self._h5.create_dataset(name, data=array)
+        dims = " ".join(str(d) for d in array.shape)
+        kind = "Float" if array.dtype.kind == "f" else "Int"
+        item = ET.SubElement(parent, "DataItem", DataType=kind, Dimensions=dims, Format="HDF",
+                             Precision=str(array.dtype.itemsize))
+        item.text = f"{self.h5_path.name}:/{name}"
+        return item
+
+    def _flush(self):
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        try:
+            self._h5.flush()
+            ET.ElementTree(self._root).write(tmp, xml_declaration=True, encoding="utf-8")
+            os.replace(tmp, self.path)
+        except (OSError, RuntimeError) as err:
+            tmp.unlink(missing_ok=True)
+            raise WriteError(f"cannot write the series {str(self.path)!r}: {_reason(err)}") from None
+
+    def initialize(self, state, stepper, steps):
+        super().initialize(state, stepper, steps)
+        self.fields = NodeFields(stepper.model)
+        self.P0 = self.fields.positions(state.X if self.reference is None else self.reference)
+        self._next = None if self.interval is None else self._after(state.t)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            if self.append and self.path.exists():
+                self._reopen(state)
+                return
+            self._start(state)
+        except OSError as err:
+            self.close()
+            raise WriteError(f"cannot write the series {str(self.path)!r}: {_reason(err)}") from None
+
+    def _start(self, state):
+        import h5py
+
+        self._counter = 0
+        self._h5 = h5py.File(self.h5_path, "w")
+        self._root = ET.Element("Xdmf", Version="3.0")
+        ET.register_namespace("xi", "http://www.w3.org/2001/XInclude")
+        domain = ET.SubElement(self._root, "Domain")
+        self._series = ET.SubElement(domain, "Grid", Name="TimeSeries_sheet", GridType="Collection",
+                                     CollectionType="Temporal")
+        self._mesh_name = None
+        self._frame(state, "first")
+
+    def _reopen(self, state):
+        """Continue the series at self.path from ``state``: drop the frames after it (module docstring)."""
+        import h5py
+
+        try:
+            self._root = ET.parse(self.path).getroot()
+            self._series = self._root.find("Domain/Grid")
+            frames = list(self._series.findall("Grid"))
+            steps = [int(g.get("Name", "")[len("step"):]) for g in frames]
+        except (ET.ParseError, AttributeError, TypeError, ValueError):
+            raise InputError(f"cannot continue the series {str(self.path)!r}: it is not a series this writer wrote",
+                             field="path", value=str(self.path)) from None
+        for g, step in zip(frames, steps):
+            kind = g.find("Information[@Name='frame']")
+            if step > state.step or (step == state.step and kind is not None and kind.get("Value") == "last"):
+                self._series.remove(g)
+        kept = list(self._series.findall("Grid"))
+        if not kept:
+            raise InputError(f"cannot continue the series {str(self.path)!r}: it has no frame before step "
+                             f"{state.step}", field="path", value=str(self.path))
+        self._mesh_name = kept[0].get("Name")
+        used = {item.text.split(":/")[-1] for item in self._root.iter("DataItem")}
+        self._h5 = h5py.File(self.h5_path, "a")
+        for name in list(self._h5.keys()):  # the data of dropped frames
+            if name not in used:
+                del self._h5[name]
+        self._counter = 1 + max(int(name[len("data"):]) for name in used)
+        self.frames = len(kept)
+        self._last_step = int(kept[-1].get("Name")[len("step"):])
+        self._flush()
+
+    def _after(self, t: float) -> float:
+        """The first cadence time after t (interval cadence)."""
+        return (np.floor(t / self.interval + 1e-9) + 1) * self.interval
+
+    def _frame(self, state, kind: str):
+        name = f"step{state.step}"
+        P = self.fields.positions(state.X)
+        data = self.fields(state.X, state.V)
+        data["displacement"] = P - self.P0
+        need = P.nbytes + sum(np.asarray(v).nbytes for v in data.values()) + DATASET_BYTES * (len(data) + 2)
+        check_room(self.h5_path, need + (0 if self._mesh_name is not None else self.fields.cells.size * 8))
+        grid = ET.SubElement(self._series, "Grid", Name=name, GridType="Uniform")
+        try:
+            if self._mesh_name is None:  # the first frame holds the topology, the others include it
+                self._mesh_name = name
+                topo = ET.SubElement(grid, "Topology", TopologyType="Quadrilateral",
+                                     NumberOfElements=str(len(self.fields.cells)), NodesPerElement="4")
+                self._data_item(topo, self.fields.cells.astype(np.int64))
+            else:
+                ET.SubElement(grid, "{http://www.w3.org/2001/XInclude}include",
+                              xpointer=f'xpointer(//Grid[@Name="{self._mesh_name}"]/*[self::Topology])')
+            ET.SubElement(grid, "Time", Value=repr(frame_time(state.t)))
+            ET.SubElement(grid, "Information", Name="frame", Value=kind)
+            geo = ET.SubElement(grid, "Geometry", GeometryType="XYZ")
+            self._data_item(geo, P)
+            for field, values in data.items():
+                rank = "Vector" if values.ndim == 2 else "Scalar"
+                att = ET.SubElement(grid, "Attribute", Name=field, AttributeType=rank, Center="Node")
+                self._data_item(att, np.ascontiguousarray(values, dtype=float))
+        except (OSError, RuntimeError) as err:
+            self._series.remove(grid)
+            raise WriteError(f"cannot write the series {str(self.h5_path)!r}: {_reason(err)}") from None
+        self.frames += 1
+        self._last_step = state.step
+        self._flush()
+
+    def handle(self, state):
+        if state.step == self._last_step:
+            return
+        if self.interval is None:
+            self._frame(state, "cadence" if state.step % self._step_cadence == 0 else "last")
+        elif state.t >= self._next - 1e-9 * self.interval:
+            self._frame(state, "cadence")
+            self._next = self._after(state.t)
+
+    def finalize(self, result):
+        if self._h5 is None:
+            return
+        try:
+            if result.state.step != self._last_step:
+                self._frame(result.state, "last")  # the last good state of a stopped or diverged run
+        finally:
+            self.close()
+
+    def close(self):
+        """Close the HDF5 file (finalize does; a run that fails in between calls it)."""
+        if self._h5 is not None:
+            try:
+                self._h5.close()
+            except (OSError, RuntimeError):
+                pass
+            self._h5 = None
+
+
+def _reason(err) -> str:
+    return getattr(err, "strerror", None) or str(err) or type(err).__name__

@@ -1,0 +1,332 @@
+r"""Compiled kernels (numba) of the energy's gradient and Hessian: per point, and summed into element blocks.
+
+The Hessian of eq. (13)'s integrand is the most frequent large computation of
+the energy-consistent model (one per Newton iteration). Written with numpy it
+needs points-first arrays of 7 x 3 x 7 x 3 entries per point and batched tiny
+products (measured at FD 64 x 64 nodes: 48 ms per Hessian, more than one
+factorisation of the Newton matrix); here each point is one loop body that
+works in scratch arrays, and the projection onto the element (FD: the six-node
+stencil) and the scatter into the fixed pattern are compiled loops too. (Measured
+at FD 64 x 64 nodes: 15 ms of CPU per Hessian; projecting inside the point loop
+saved 5 % and doubled the compile time, about 10 s on first use.)
+
+The formulas are those of :mod:`deformable.physics.integrand` (which documents them):
+at a point, with slot vectors d1, d2 (the metric), t1, t2 (the normal) and
+v11, v22, v12 (the curvature), residuals s = (G11, G22, G12), b = (B11, B22,
+B12), weights c (6,), and forces F = 2 c (s, b) - (f0, g0):
+
+- Gauss-Newton: ``sum_r 2 c_r J_r J_r^T``, J_r the residual's gradient in the slots;
+- membrane: ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite");
+- bending: the second derivative of ``V . n``, ``V = sum_k F_bk v_k``,
+  ``n = c / |c|``, ``c = t1 x t2``. With ``W = (V - (V . n) n) / |c|``,
+  ``P = I - n n^T``, ``C = [-[t2]x, [t1]x]``:
+  ``Htt = C^T Hf C + [[0, -[W]x], [[W]x, 0]]``,
+  ``Hf = -(W n^T + n W^T) / |c| - (V . n) P / |c|^2``, and the mixed blocks
+  ``F_bk P C / |c|`` between v_k and (t1, t2);
+- "projected": the whole point Hessian projected onto its positive part by
+  an eigen-decomposition (Teran et al. 2005; Li et al. 2020),
+  :func:`positive_part` (numpy: LAPACK's batched eigh, and no LAPACK to compile).
+
+The gradient at a point is ``sum_r F_r J_r`` with the same Jacobian
+(:func:`point_gradients`). Kinds are integers here: :data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["KINDS", "point_gradients", "point_hessians", "element_upper", "positive_part"]
+
+#: Hessian kind name -> the kernels' code
+KINDS = {"newton": 0, "gauss-newton": 1, "definite": 2, "projected": 3}
+
+
+@njit(cache=True)
+def _positive_part_2x2(a, b, d):
+    """The positive semi-definite part of [[a, b], [b, d]] as (a', b', d')."""
+    mean, half = 0.5 * (a + d), np.hypot(0.5 * (a - d), b)
+    lam1, lam2 = mean + half, mean - half
+    if lam2 >= 0.0:
+        return a, b, d
+    if lam1 <= 0.0:
+        return 0.0, 0.0, 0.0
+    # the eigenvector of lam1: (b, lam1 - a) or (lam1 - d, b), whichever is better conditioned
+    if abs(lam1 - a) >= abs(lam1 - d):
+        u0, u1 = b, lam1 - a
+    else:
+        u0, u1 = lam1 - d, b
+    s = 1.0 / (u0 * u0 + u1 * u1)
+    return lam1 * u0 * u0 * s, lam1 * u0 * u1 * s, lam1 * u1 * u1 * s
+
+
+@njit(cache=True)
+def _cross(a, b, out):
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@njit(cache=True)
+def _skew_into(a, M, r0, c0, sign):
+    """M[r0:r0+3, c0:c0+3] += sign [a]x."""
+    M[r0 + 0, c0 + 1] -= sign * a[2]
+    M[r0 + 0, c0 + 2] += sign * a[1]
+    M[r0 + 1, c0 + 0] += sign * a[2]
+    M[r0 + 1, c0 + 2] -= sign * a[0]
+    M[r0 + 2, c0 + 0] -= sign * a[1]
+    M[r0 + 2, c0 + 1] += sign * a[0]
+
+
+@njit(cache=True)
+def _jacobian(v, sl, bend, c, r0, bending, J, F, sc):
+    """Residual forces F (6,) and the Jacobian J (6, 3S) of the residuals in the slots at one point.
+
+    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0].
+    """
+    S = v.shape[0]
+    for r in range(6):
+        for i in range(3 * S):
+            J[r, i] = 0.0
+    i1, i2 = sl[0], sl[1]
+    G11 = v[i1, 0] * v[i1, 0] + v[i1, 1] * v[i1, 1] + v[i1, 2] * v[i1, 2]
+    G22 = v[i2, 0] * v[i2, 0] + v[i2, 1] * v[i2, 1] + v[i2, 2] * v[i2, 2]
+    G12 = v[i1, 0] * v[i2, 0] + v[i1, 1] * v[i2, 1] + v[i1, 2] * v[i2, 2]
+    F[0] = 2.0 * c[0] * G11 - r0[0]
+    F[1] = 2.0 * c[1] * G22 - r0[1]
+    F[2] = 2.0 * c[2] * G12 - r0[2]
+    for a in range(3):
+        J[0, 3 * i1 + a] += 2.0 * v[i1, a]
+        J[1, 3 * i2 + a] += 2.0 * v[i2, a]
+        J[2, 3 * i1 + a] += v[i2, a]
+        J[2, 3 * i2 + a] += v[i1, a]
+    if not bending:
+        F[3] = F[4] = F[5] = 0.0
+        return 3, 1.0
+    it1, it2 = sl[2], sl[3]
+    n, w, t = sc[0], sc[1], sc[2]
+    _cross(v[it1], v[it2], n)
+    area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    for a in range(3):
+        n[a] /= area
+    for k in range(3):
+        ik = bend[k]
+        Bk = n[0] * v[ik, 0] + n[1] * v[ik, 1] + n[2] * v[ik, 2]
+        F[3 + k] = 2.0 * c[3 + k] * Bk - r0[3 + k]
+        for a in range(3):
+            w[a] = (v[ik, a] - Bk * n[a]) / area
+        _cross(v[it2], w, t)
+        for a in range(3):
+            J[3 + k, 3 * it1 + a] += t[a]
+        _cross(w, v[it1], t)
+        for a in range(3):
+            J[3 + k, 3 * it2 + a] += t[a]
+            J[3 + k, 3 * ik + a] += n[a]
+    return 6, area
+
+
+@njit(cache=True)
+def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q):
+    """The Hessian of one point into H (3S, 3S), index 3 slot + coordinate; the rest are scratch arrays."""
+    S = v.shape[0]
+    n3 = 3 * S
+    for i in range(n3):
+        for j in range(n3):
+            H[i, j] = 0.0
+    nres, area = _jacobian(v, sl, bend, c, r0, bending, J, F, sc)
+    i1, i2, it1, it2 = sl[0], sl[1], sl[2], sl[3]
+    n = sc[0]
+    # Gauss-Newton: sum_r 2 c_r J_r J_r^T over the slots each residual touches
+    for r in range(nres):
+        cr = 2.0 * c[r]
+        if cr == 0.0:
+            continue
+        na = 0
+        for s in range(S):
+            if J[r, 3 * s] != 0.0 or J[r, 3 * s + 1] != 0.0 or J[r, 3 * s + 2] != 0.0:
+                act[na] = s
+                na += 1
+        for p in range(na):
+            for q in range(na):
+                sp, sq = act[p], act[q]
+                for a in range(3):
+                    x = cr * J[r, 3 * sp + a]
+                    for b in range(3):
+                        H[3 * sp + a, 3 * sq + b] += x * J[r, 3 * sq + b]
+    if kind == 1:
+        return
+    # membrane: [[2 F11, F12], [F12, 2 F22]] (x I3) on (d1, d2)
+    m11, m12, m22 = 2.0 * F[0], F[2], 2.0 * F[1]
+    if kind == 2:
+        m11, m12, m22 = _positive_part_2x2(m11, m12, m22)
+    for a in range(3):
+        H[3 * i1 + a, 3 * i1 + a] += m11
+        H[3 * i1 + a, 3 * i2 + a] += m12
+        H[3 * i2 + a, 3 * i1 + a] += m12
+        H[3 * i2 + a, 3 * i2 + a] += m22
+    if kind == 2 or not bending:
+        return
+    # bending: the second derivative of V . n, V = sum_k F_bk v_k
+    V, W = sc[3], sc[4]
+    for a in range(3):
+        V[a] = F[3] * v[bend[0], a] + F[4] * v[bend[1], a] + F[5] * v[bend[2], a]
+    Vn = V[0] * n[0] + V[1] * n[1] + V[2] * n[2]
+    for a in range(3):
+        W[a] = (V[a] - Vn * n[a]) / area
+    for a in range(3):
+        for b in range(3):
+            Pab = (1.0 if a == b else 0.0) - n[a] * n[b]
+            Hf[a, b] = -(W[a] * n[b] + n[a] * W[b]) / area - Vn * Pab / (area * area)
+    for a in range(3):  # C = [-[t2]x, [t1]x] (3 x 6)
+        for b in range(6):
+            Cm[a, b] = 0.0
+    _skew_into(v[it2], Cm, 0, 0, -1.0)
+    _skew_into(v[it1], Cm, 0, 3, 1.0)
+    for a in range(3):  # T6 = Hf C; Htt = C^T T6
+        for b in range(6):
+            x = 0.0
+            for e in range(3):
+                x += Hf[a, e] * Cm[e, b]
+            T6[a, b] = x
+    for a in range(6):
+        for b in range(6):
+            x = 0.0
+            for e in range(3):
+                x += Cm[e, a] * T6[e, b]
+            Htt[a, b] = x
+    _skew_into(W, Htt, 0, 3, -1.0)
+    _skew_into(W, Htt, 3, 0, 1.0)
+    for a in range(3):  # Q = P C / |c|
+        for b in range(6):
+            x = 0.0
+            for e in range(3):
+                x += ((1.0 if a == e else 0.0) - n[a] * n[e]) * Cm[e, b]
+            Q[a, b] = x / area
+    tt = (it1, it2)
+    for i in range(2):
+        for j in range(2):
+            for a in range(3):
+                for b in range(3):
+                    H[3 * tt[i] + a, 3 * tt[j] + b] += Htt[3 * i + a, 3 * j + b]
+    for k in range(3):
+        ik = bend[k]
+        g = F[3 + k]
+        for i in range(2):
+            for a in range(3):
+                for b in range(3):
+                    x = g * Q[a, 3 * i + b]
+                    H[3 * ik + a, 3 * tt[i] + b] += x
+                    H[3 * tt[i] + b, 3 * ik + a] += x
+
+
+@njit(cache=True)
+def _scratch(S):
+    return (np.zeros((6, 3 * S)), np.zeros((3 * S, 3 * S)), np.zeros(6), np.zeros(S, np.int64), np.zeros((5, 3)),
+            np.zeros((3, 6)), np.zeros((3, 3)), np.zeros((3, 6)), np.zeros((6, 6)), np.zeros((3, 6)))
+
+
+@njit(cache=True)
+def point_gradients(v, sl, bend, c, r0, bending):
+    """dW/d(slots) at every point, (P, S, 3): sum_r F_r J_r (arguments as :func:`point_hessians`)."""
+    P, S = v.shape[0], v.shape[1]
+    J, F, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros((5, 3))
+    out = np.zeros((P, S, 3))
+    for p in range(P):
+        nres, _ = _jacobian(v[p], sl, bend, c[:, p], r0[:, p], bending, J, F, sc)
+        g = out[p]
+        for r in range(nres):
+            for s in range(S):
+                for a in range(3):
+                    g[s, a] += F[r] * J[r, 3 * s + a]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def point_hessians(v, sl, bend, c, r0, kind, bending):
+    """The Hessian at every point, (P, 3S, 3S) (index 3 slot + coordinate).
+
+    Parameters
+    ----------
+    v : (P, S, 3) slot vectors
+    sl : int (4,) positions of d1, d2, t1, t2; ``bend`` int (3,) those of v11, v22, v12
+    c, r0 : (6, P) residual weights and their rest terms (f0, g0)
+    kind : int, 0 (exact), 1 (Gauss-Newton) or 2 (definite) (:data:`KINDS`; "projected" is the exact one
+        projected by the caller, :func:`positive_part`); bending : bool (False: no normal is formed)
+    """
+    P, S = v.shape[0], v.shape[1]
+    J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q = _scratch(S)
+    out = np.empty((P, 3 * S, 3 * S))
+    for p in range(P):
+        _point(v[p], sl, bend, c[:, p], r0[:, p], kind, bending, J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q)
+        out[p] = Hp
+    return out
+
+
+@njit(cache=True)
+def _rowstart(nl):
+    """Offset of row i in the row-major upper triangle of an nl x nl matrix, minus i."""
+    start = np.zeros(nl, np.int64)
+    for i in range(1, nl):
+        start[i] = start[i - 1] + nl - (i - 1)
+    for i in range(nl):
+        start[i] -= i
+    return start
+
+
+@njit(cache=True)
+def _project(Hp, B, row, T, start):
+    """row += upper triangle of B^T Hp B (x I3): Hp (3S, 3S), B (S, L), row (3L (3L + 1) / 2), T scratch (S, 3, 3L)."""
+    S, L = B.shape
+    nl = 3 * L
+    # T[s, a, b L + m] = sum_t H[s a, t b] B[t, m]  (inner loops contiguous: vectorised)
+    for s in range(S):
+        for a in range(3):
+            Tsa = T[s, a]
+            for j in range(nl):
+                Tsa[j] = 0.0
+            for t in range(S):
+                for b in range(3):
+                    h = Hp[3 * s + a, 3 * t + b]
+                    if h != 0.0:
+                        for m in range(L):
+                            Tsa[b * L + m] += h * B[t, m]
+    # row[(a L + l, j)] += sum_s B[s, l] T[s, a, j] for j >= a L + l
+    for s in range(S):
+        for l in range(L):
+            x = B[s, l]
+            if x != 0.0:
+                for a in range(3):
+                    i = a * L + l
+                    base = start[i]
+                    Tsa = T[s, a]
+                    for j in range(i, nl):
+                        row[base + j] += x * Tsa[j]
+
+
+@njit(cache=True, nogil=True)
+def element_upper(H, table, which, element, out):
+    """Add every point's Hessian, projected onto its element, to the elements' upper triangles.
+
+    The block of point p on its element e = element[p] is ``B^T H_p B`` (x I3
+    in the coordinates), ``B = table[which[p]]`` (S, L) the coefficients of the
+    element's L local nodes (or basis functions) in the point's slots; local
+    index ``a L + l`` (coordinate a), upper entries in ``numpy.triu_indices(3 L)``
+    order.
+
+    Parameters
+    ----------
+    H : (P, 3S, 3S) point Hessians (:func:`point_hessians`)
+    table : (nB, S, L); which : int (P,); element : int (P,)
+    out : (E, 3L (3L + 1) / 2), added to
+    """
+    S, L = table.shape[1], table.shape[2]
+    T = np.zeros((S, 3, 3 * L))
+    start = _rowstart(3 * L)
+    for p in range(H.shape[0]):
+        _project(H[p], table[which[p]], out[element[p]], T, start)
+
+
+def positive_part(H: np.ndarray) -> np.ndarray:
+    """Symmetric matrices (P, n, n) projected onto their positive semi-definite part (an eigen-decomposition)."""
+    w, U = np.linalg.eigh(H)
+    return (U * np.maximum(w, 0.0)[:, None, :]) @ np.swapaxes(U, 1, 2)

@@ -1,0 +1,405 @@
+r"""Newton's method on a potential over the free degrees of freedom of a model.
+
+The implicit time steps (:mod:`deformable.dynamics.implicit`) and static
+equilibrium (:mod:`deformable.solve.equilibrium`) both minimise a potential
+
+    Phi(x) = (inertia and damping terms) + E(x) - F . x
+
+whose elastic part E is the model's energy (the exact gradient of eq. (13)
+for the "variational" model, the quadratic energy of the frozen one), and
+whose Newton matrix is ``c_M M + c_C C + Hess E`` (implicit Euler: 1/dt^2,
+1/dt; Newmark: 4/dt^2, 2/dt; statics: 0, 0). This module holds what they
+share: the model's energy over flat coordinate-blocked vectors
+(:class:`FlatEnergy`) and :class:`Newton`:
+
+- the Newton matrix lives on the Hessian's fixed pattern, reduced to the free
+  degrees of freedom by precomputed gathers
+  (:class:`deformable.algebra.reduced.ReducedSystem`): no sparse slicing and no
+  sparse-sparse product per iteration;
+- the Newton matrix is positive definite, so that every direction descends:
+  by default ("auto") the exact Hessian's when the factorisation finds it
+  positive definite (Cholesky in PARDISO; the pivots of SuperLU's symmetric
+  LDL^T), else the one of the *definite* Hessian of
+  :mod:`deformable.physics.integrand` (Gauss-Newton plus the membrane's tension
+  stiffness, positive semi-definite point by point), which needs no
+  eigen-decomposition and no further factorisation; a Levenberg-Marquardt
+  shift is the last resort for a singular matrix;
+- the factorisation is kept while it pays: within a solve an iteration
+  reuses the last one when the previous iteration with it reduced the
+  residual at least a hundredfold (:data:`CONTRACTION`), else it
+  refactorises (a chord method with a contraction test); a linear model's
+  matrix is factorised once for as long as c_M and c_C stay the same (the
+  frozen model: once per dt). Measured on the curtain (FD 48 x 48, 2 s):
+  iterations and factorisations per step 3.0 and 2.05 with a tenfold test,
+  2.45 and 2.37 with a hundredfold one, 2.45 and 2.45 without reuse (a chord
+  step after a first Newton step that gained 20-50x gains only 2-4x more).
+  Reusing the last time step's factorisation for a nonlinear model was
+  measured and dropped: on the curtain (FD 32 x 32) its first chord step
+  rarely contracts tenfold, and iterations per step rose from 3.4 to 4.4;
+- the search is a watchdog (Chamberlain, Powell, Lemarechal and Pedersen
+  1982, "The watchdog technique for forcing convergence in algorithms for
+  constrained optimization"): full Newton steps are taken even when Phi
+  grows, for at most :data:`WATCHDOG` steps in a row; if none of them brings
+  a sufficient (Armijo) decrease against the last good point, the search goes
+  back to that point and backtracks along its direction. Phi is evaluated
+  only to weigh a step: a full step whose residual meets the tolerance ends
+  the solve without it (measured on the curtain, FD 24 x 24 nodes, 40
+  steps: 1.05 evaluations of Phi a step against 2.5, the same iterates).
+  Newton's method keeps its quadratic convergence through the nonconvex
+  stretches of elastica-like problems (measured: 16-19 iterations for a
+  cantilever bent to P L^2/EI = 4 from flat), where a backtracking search
+  under a bound on the step took 65-70.
+
+The potential's elastic part may carry the scene's springs
+(:class:`deformable.physics.loads.Loads`: an energy with its Hessian), evaluated at
+the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
+implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
+
+Contact (:mod:`deformable.contact`): with obstacles in the scene the
+potential also carries the barrier and the lagged friction
+(:class:`deformable.contact.ContactPotential`), and every Newton direction is
+clipped to the largest safe step before the search sees it
+(:meth:`FlatEnergy.max_step`: ``margin`` of the step at which a contact point
+would reach an obstacle). The watchdog's full steps and its backtracking
+from the last good point both move along clipped directions, so no iterate,
+tried or taken, carries a contact point across an obstacle (Li et al. 2020,
+"Incremental Potential Contact", section 4), and the Armijo test compares
+against the slope of the clipped step. In a time step (a Newton matrix with
+inertia) the direction's contact normals are first solved against the
+barrier itself (:meth:`deformable.contact.ContactPotential.relax`, a
+nonlinear elimination); that direction is kept when its step decreases Phi
+from the current iterate (Armijo), else the iteration takes Newton's own
+clipped step, at the cost of a second gradient. Equilibrium has no inertia to
+bound the 1-D models, and takes Newton's clipped direction.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..algebra.reduced import ReducedSystem
+from ..algebra.solvers import SingularMatrix, make_solver, one_blas_thread
+from ..errors import InputError, NumericalError
+from .potential import FlatEnergy
+
+__all__ = ["ConvergenceError", "NewtonReport", "NewtonSettings", "Newton", "WATCHDOG"]
+
+#: full Newton steps taken in a row without a sufficient decrease of the potential before the watchdog steps back
+WATCHDOG = 6
+#: a reused factorisation is kept while each iteration with it reduces the residual at least this much (ratio)
+CONTRACTION = 0.01
+
+
+class ConvergenceError(NumericalError):
+    """Newton's method did not converge; ``history`` holds the residual norms per iteration."""
+
+    def __init__(self, message: str, history=None, X=None):
+        super().__init__(message)
+        self.history, self.X = history or [], X
+
+
+@dataclass
+class NewtonReport:
+    """Iterations, residual history and cost of one Newton solve."""
+
+    iterations: int = 0
+    residuals: list = field(default_factory=list)
+    converged: bool = False
+    floor: float = 0.0  # round-off floor the tolerance was raised to, if any (N)
+    scale: float = 0.0  # the residual rtol is relative to (N)
+    tolerance: float = 0.0  # the residual the solve had to reach (N)
+    factorisations: int = 0
+    fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
+    seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
+
+
+@dataclass(frozen=True)
+class NewtonSettings:
+    """Settings of :class:`Newton`, checked.
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Converged when the max-norm of the free residual is at most ``max(rtol * scale, atol)`` (atol in
+        N), never below the round-off floor of the internal forces; the scale is the residual at the start
+        unless the caller gives one. In a time step it is the force imbalance at the inertial predictor
+        x_n + dt v_n, so rtol bounds the Newton error against the step's correction, itself of the size of
+        implicit Euler's local error. Measured on the curtain (FD 16 x 16 nodes, 1 s at dt = 5 ms), the
+        largest position difference from a solve to rtol = 1e-10: 5.9e-5 m at the default rtol = 1e-3
+        (1.65 iterations a step), 1.4e-6 m at 1e-4 (2.05), against 3.5e-2 m between dt and dt / 2: the
+        Newton error is 0.2 % of the scheme's own. A study of temporal order asks for less (e.g. 1e-10).
+    max_iter : int
+        Iterations per solve (0 allowed: a solve that must already be converged).
+    hessian : str
+        "auto" (default): the exact Hessian when the Newton matrix it gives is positive definite (the
+        factorisation tells), else the "definite" one; or one of "definite", "newton", "gauss-newton",
+        "projected" (:mod:`deformable.physics.integrand`).
+    solver : str
+        "auto", "superlu" or "pardiso" (:mod:`deformable.algebra.solvers`).
+    reuse : bool
+        Keep a factorisation while it contracts (module docstring).
+    """
+
+    rtol: float = 1e-3
+    atol: float = 1e-12
+    max_iter: int = 30
+    hessian: str = "auto"
+    solver: str = "auto"
+    reuse: bool = True
+
+    def __post_init__(self):
+        from ..algebra.solvers import SOLVERS
+        from ..physics.integrand import HESSIANS
+
+        for name in ("rtol", "atol"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
+                raise InputError(f"newton {name} must be a finite non-negative number, got {v!r}")
+        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 0:
+            raise InputError(f"newton max_iter must be a non-negative integer, got {self.max_iter!r}")
+        if self.hessian not in ("auto",) + HESSIANS:
+            raise InputError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
+        if self.solver not in SOLVERS:
+            raise InputError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
+
+    @classmethod
+    def of(cls, value) -> NewtonSettings:
+        """Settings from a NewtonSettings, a dict of its fields or None (the defaults); InputError otherwise."""
+        if isinstance(value, cls):
+            return value
+        if value is None:
+            return cls()
+        if not isinstance(value, dict):
+            raise InputError(f"newton settings must be a NewtonSettings or a dict, got {value!r}", field="newton",
+                             value=value)
+        for key in value:
+            if key not in cls.__dataclass_fields__:
+                raise InputError(f"unknown newton setting {key!r}; known: {', '.join(cls.__dataclass_fields__)}",
+                                 field="newton", value=key)
+        return cls(**value)
+
+
+class Newton:
+    """Newton's method for potentials whose Newton matrix is ``c_M M + c_C C + Hess E`` (module docstring).
+
+    Parameters
+    ----------
+    problem : FlatEnergy
+    settings : NewtonSettings or dict, optional
+
+    One object serves a whole run: it keeps the Newton matrix's pattern, the
+    solver's analysis, the last factorisation and the step bound between solves.
+    """
+
+    def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None):
+        self.problem = problem
+        self.settings = NewtonSettings.of(settings)
+        definite = self.settings.hessian in ("auto", "definite", "gauss-newton", "projected")
+        self.solver = make_solver(self.settings.solver, definite=definite)
+        self._system = None
+        self._factored = None  # (c_M, c_C) of the factorisation at hand, or None
+        self._floor = 0.0
+        self._damping = None  # an extra damping matrix of the current solve (already times c_C)
+        self._stiffness = None  # with contact: the Newton matrix's diagonal without the contact's Hessian (3 ndof,)
+
+    def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
+        """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
+
+        ``kind``: the Hessian (default the settings'; "auto" is the exact one
+        here). The extra matrices are the springs' Hessian and the damping set
+        by :meth:`minimise` (the wind's, times c_C).
+        """
+        report = NewtonReport() if report is None else report
+        t0 = time.perf_counter()
+        p = self.problem
+        kind = kind or self.settings.hessian
+        H = p.hessian(x, "newton" if kind == "auto" else kind)
+        extra = p.extra_hessians(x, self._damping, "newton" if kind == "auto" else kind)
+        if self._system is None:
+            self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
+        elif (self._system.cm, self._system.cc) != (cm, cc):
+            self._system.rescale(cm, cc)
+        A = self._system.free_block(H, *extra)
+        if p.contact is not None:  # the diagonal without the contact's Hessian (the last extra matrix but damping)
+            contact = extra[len(extra) - 1 - (self._damping is not None)]
+            self._stiffness = np.zeros(3 * p.n)
+            self._stiffness[p.free] = A.diagonal() - contact.diagonal()[p.free]
+        report.seconds["hessian"] += time.perf_counter() - t0
+        # round-off floor: internal forces are sums of terms of size |diag H| |x|
+        self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
+        report.floor = max(report.floor, self._floor)
+        return A
+
+    def _factor_at(self, x, cm, cc, report: NewtonReport) -> None:
+        """Assemble and factorise the Newton matrix at x ("auto": the exact one if definite, else the definite one)."""
+        if self.settings.hessian == "auto":
+            A = self.newton_matrix(x, cm, cc, report)
+            t0 = time.perf_counter()
+            try:
+                self.solver.factor(A)
+                report.factorisations += 1
+                report.seconds["factor"] += time.perf_counter() - t0
+                return
+            except SingularMatrix:  # indefinite (compression, or bending away from the rest state): make it definite
+                report.seconds["factor"] += time.perf_counter() - t0
+                report.fallbacks += 1
+            self._factor(self.newton_matrix(x, cm, cc, report, "definite"), report)
+            return
+        self._factor(self.newton_matrix(x, cm, cc, report), report)
+
+    def _factor(self, A, report: NewtonReport) -> None:
+        """Factorise A, adding a Levenberg-Marquardt shift if it is singular (or indefinite with Cholesky)."""
+        t0 = time.perf_counter()
+        scale = float(np.mean(np.abs(A.diagonal()))) or 1.0
+        for shift in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
+            try:
+                self.solver.factor(A if not shift else A + shift * scale * sp.identity(A.shape[0], format="csc"))
+                break
+            except SingularMatrix:
+                continue
+        else:
+            raise SingularMatrix("the Newton matrix stays singular under a Levenberg-Marquardt shift")
+        report.factorisations += 1
+        report.seconds["factor"] += time.perf_counter() - t0
+
+    def minimise(self, phi, grad, x, cm: float = 0.0, cc: float = 0.0, label: str = "Newton", damping=None,
+                 scale: float | None = None):
+        """Minimise phi over the free degrees of freedom from x (held ones stay); returns (x, NewtonReport).
+
+        OpenBLAS keeps one thread meanwhile (:func:`deformable.algebra.solvers.one_blas_thread`).
+
+        Parameters
+        ----------
+        phi, grad : callables of the flat vector x
+            The potential and its gradient (3 ndof,).
+        cm, cc : float
+            The multipliers of M and C in the Newton matrix.
+        label : str
+            Named in the ConvergenceError of a failed search.
+        damping : sparse (3 ndof, 3 ndof), optional
+            A further constant term of the Newton matrix in this solve (the
+            wind's damping times c_C), on the same pattern in every solve.
+        scale : float, optional
+            The residual (N) that ``rtol`` is relative to; default the residual at x.
+        """
+        with one_blas_thread():
+            return self._minimise(phi, grad, x, cm, cc, label, damping, scale)
+
+    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale):
+        s, p = self.settings, self.problem
+        free = p.free
+        report = NewtonReport(floor=self._floor)
+        self._damping = damping
+        if self._factored is not None and (self._factored != (cm, cc) or not p.linear):
+            self._factored = None  # a factorisation outlives its solve only for a linear model
+        g = grad(x)[free]
+        r0 = float(np.max(np.abs(g))) if g.size else 0.0
+        report.scale = r0 if scale is None else float(scale)
+        target = report.tolerance = max(s.rtol * report.scale, s.atol, report.floor)
+        report.residuals.append(r0)
+        if r0 <= target:
+            report.converged = True
+            return x, report
+        ref = None  # the watchdog's reference, [x, phi or None, direction, slope]: the last sufficient decrease
+        fx = None  # phi at x, when known
+        relaxed = WATCHDOG
+        for it in range(1, s.max_iter + 1):
+            # refactorise unless the factorisation at hand (also one from an earlier solve) keeps contracting
+            slow = len(report.residuals) >= 2 and report.residuals[-1] > CONTRACTION * report.residuals[-2]
+            if self._factored is None or not s.reuse or slow:
+                self._factor_at(x, cm, cc, report)
+                self._factored = (cm, cc)
+            t0 = time.perf_counter()
+            d = -self.solver.solve(g)
+            report.seconds["solve"] += time.perf_counter() - t0
+            t0 = time.perf_counter()
+            slope = float(g @ d)
+            newton = slope < 0
+            if not newton:  # no descent (a stale factorisation): steepest descent, scaled like the step
+                d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
+                slope = float(g @ d)
+            plain = None  # with contact: Newton's own direction and slope, when the solved normals replace it
+            if p.contact is not None:  # the contact normals solved against the barrier, then the safe step
+                dx = np.zeros_like(x)
+                dx[free] = d
+                if newton and cm > 0:  # the 1-D models need the inertia's stiffness (none in equilibrium)
+                    solved = p.contact.relax(x, dx, self._stiffness)
+                    if solved is not dx and float(g @ solved[free]) < 0:
+                        plain = (dx, d, slope)
+                        dx, d, slope = solved, solved[free], float(g @ solved[free])
+                alpha = p.max_step(x, dx)
+                d, slope = alpha * d, alpha * slope
+            new_ref = ref is None
+            if new_ref:  # phi there is evaluated when a step is first weighed against it
+                ref = [x, fx, d, slope]
+            xt = gt = None
+            if relaxed > 0:  # a full Newton step, kept even if phi grows, for at most WATCHDOG steps in a row
+                xt = x.copy()
+                xt[free] += d
+                report.seconds["search"] += time.perf_counter() - t0
+                gt = grad(xt)[free]
+                t0 = time.perf_counter()
+                target = report.tolerance = max(target, report.floor)
+                weigh = not float(np.max(np.abs(gt))) <= target  # a step that converges needs no weighing
+                ft = None
+                if weigh and plain is not None:  # the solved normals must gain on x itself, else Newton's own step
+                    fx = phi(x) if fx is None else fx
+                    if new_ref:
+                        ref[1] = fx
+                    ft = phi(xt)
+                    if not ft <= fx + 1e-4 * slope:  # Newton's own step, clipped
+                        dx, d, slope = plain
+                        alpha = p.max_step(x, dx)
+                        d, slope, ft = alpha * d, alpha * slope, None
+                        if new_ref:
+                            ref[2:] = [d, slope]
+                        xt = x.copy()
+                        xt[free] += d
+                        gt = grad(xt)[free]
+                        weigh = not float(np.max(np.abs(gt))) <= target
+                if weigh:
+                    fx = phi(xt) if ft is None else ft
+                    if ref[1] is None:
+                        ref[1] = phi(ref[0])
+                    if not np.isfinite(fx):
+                        xt, gt, relaxed = None, None, 0
+                    elif fx <= ref[1] + 1e-4 * ref[3]:
+                        ref, relaxed = None, WATCHDOG
+                    else:
+                        relaxed -= 1
+            if xt is None:  # back to the reference, and a monotone backtracking search along its direction
+                xr, fr, dr, sr = ref
+                xt, fx = self._backtrack(phi, xr, phi(xr) if fr is None else fr, dr, sr, free, label, it, report)
+                ref = None
+            moved = float(np.max(np.abs(xt - x)))
+            x = xt
+            report.seconds["search"] += time.perf_counter() - t0
+            g = grad(x)[free] if gt is None else gt
+            report.residuals.append(float(np.max(np.abs(g))))
+            report.iterations = it
+            target = report.tolerance = max(target, report.floor)
+            if report.residuals[-1] <= target:
+                report.converged = True
+                break
+            if moved <= 1e-15 * max(1.0, float(np.max(np.abs(x)))):  # no move left: round-off, or stuck
+                report.converged = report.residuals[-1] <= 1e3 * target
+                break
+        return x, report
+
+    @staticmethod
+    def _backtrack(phi, x, f0, d, slope, free, label, it, report):
+        """Armijo backtracking from x along the descent direction d (slope g . d < 0): the point and its phi."""
+        step = 1.0
+        for _ in range(50):
+            xt = x.copy()
+            xt[free] += step * d
+            ft = phi(xt)
+            if np.isfinite(ft) and ft <= f0 + 1e-4 * step * slope:
+                return xt, ft
+            step *= 0.5
+        raise ConvergenceError(f"{label}: line search failed at iteration {it} (residual {report.residuals[-1]:.3e})",
+                               report.residuals, x)

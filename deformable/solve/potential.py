@@ -1,0 +1,128 @@
+r"""A model's potential over flat coordinate-blocked vectors: what Newton's method minimises.
+
+The implicit time steps (:mod:`deformable.dynamics.implicit`) and static
+equilibrium (:mod:`deformable.solve.equilibrium`) minimise a potential
+``Phi(x) = (inertia and damping terms) + E(x) - F . x`` over the free degrees
+of freedom. :class:`FlatEnergy` gives its elastic part E over flat vectors
+(index ``a * ndof + k`` for coordinate a of degree of freedom k, the
+backend contract's layout): the model's energy (the exact gradient of
+eq. (13), or the frozen model's quadratic energy), the scene's springs
+(:class:`deformable.physics.loads.Loads`) at the time :attr:`FlatEnergy.t`
+and, with obstacles, the barrier and friction
+(:class:`deformable.contact.potential.ContactPotential`), with their
+gradients and Hessians, the mass and damping in the same layout, the applied
+loads and the held degrees of freedom.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..contact.potential import ContactPotential
+from ..physics.elasticity import require_energy_gradient
+
+__all__ = ["FlatEnergy", "flat", "unflat"]
+
+
+def flat(X) -> np.ndarray:
+    """(ndof, 3) -> coordinate blocks (3 ndof,): index a * ndof + k."""
+    return np.asarray(X, float).T.ravel()
+
+
+def unflat(x, n: int) -> np.ndarray:
+    """Coordinate blocks (3 n,) -> (n, 3)."""
+    return x.reshape(3, n).T.copy()
+
+
+class FlatEnergy:
+    """A model's energy, gradient, Hessian, mass, damping and load over flat coordinate-blocked vectors.
+
+    Parameters
+    ----------
+    model : Backend whose force model has an energy ("variational" or "frozen"; ValueError for tpbf87)
+
+    Attributes
+    ----------
+    free : bool array (3 ndof,)
+        The degrees of freedom that are not held.
+    fixed : int array
+        The held ones.
+    M, C : sparse (3 ndof, 3 ndof)
+        diag(M, M, M) and diag(C, C, C).
+    loads : deformable.physics.loads.Loads
+        The model's external forces.
+    t : float
+        The time of the springs' anchors in :meth:`energy`, :meth:`gradient`, :meth:`hessian` (s).
+    linear : bool
+        The Newton matrix does not depend on x (the frozen model, with linear springs at most, no wind, no
+        obstacles).
+    contact : deformable.contact.ContactPotential or None
+        The barrier and friction of the scene's obstacles (None without obstacles).
+    """
+
+    def __init__(self, model):
+        require_energy_gradient(model.scene)
+        self.model, self.n = model, model.ndof
+        I3 = sp.identity(3, format="csr")
+        self.M = sp.kron(I3, model.mass(), format="csr")
+        self.C = sp.kron(I3, model.damping(), format="csr")
+        self.fixed = np.concatenate([a * self.n + np.asarray(f, dtype=np.int64)
+                                     for a, f in enumerate(model.fixed_dofs())])
+        self.free = np.ones(3 * self.n, bool)
+        self.free[self.fixed] = False
+        self.loads = model.loads
+        self.contact = None
+        if model.scene.obstacles:
+            if model.scene.contact.method != "barrier":
+                raise ValueError(f"contact method {model.scene.contact.method!r} (the paper's exponential force) is "
+                                 "for the semi-implicit scheme; the implicit schemes and equilibrium take the barrier")
+            self.contact = ContactPotential(model)
+        self.linear = bool(model.linear and self.loads.linear and self.contact is None)
+        self.t = 0.0
+
+    def energy(self, x) -> float:
+        """Elastic energy (13) plus the springs' and the contact's (J); +inf where a contact point is not outside."""
+        X = unflat(x, self.n)
+        e = self.model.energy(X).total
+        if self.contact is not None:
+            e += self.contact.energy(x)
+        return e + self.loads.spring_energy(X, self.t) if self.loads.springs else e
+
+    def gradient(self, x, contact: bool = True) -> np.ndarray:
+        """The gradient of :meth:`energy` (N); ``contact=False`` leaves the contact's out."""
+        X = unflat(x, self.n)
+        g = self.model.energy_gradient(X)
+        g = flat(g + self.loads.spring_gradient(X, self.t) if self.loads.springs else g)
+        return g + self.contact.gradient(x) if contact and self.contact is not None else g
+
+    def hessian(self, x, kind: str = "newton") -> sp.csr_matrix:
+        """The elastic energy's Hessian (the springs' is :meth:`extra_hessians`)."""
+        return self.model.energy_hessian(unflat(x, self.n), kind)
+
+    def extra_hessians(self, x, damping=None, kind: str = "newton") -> list:
+        """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians
+        at x (the contact's of ``kind``), and ``damping``."""
+        out = []
+        if self.loads.springs:
+            out.append(self.loads.spring_hessian(unflat(x, self.n), self.t))
+        if self.contact is not None:
+            out.append(self.contact.hessian(x, kind))
+        if damping is not None:
+            out.append(damping)
+        return out
+
+    def max_step(self, x, dx) -> float:
+        """The largest alpha in (0, 1] by which x may move along dx (flat, 3 ndof) without a contact point
+        crossing an obstacle (1 without obstacles; :meth:`deformable.contact.ContactPotential.max_step`)."""
+        return 1.0 if self.contact is None else self.contact.max_step(x, dx)
+
+    def load(self, t: float) -> np.ndarray:
+        """The applied loads at t (body, edge, point), flat (N)."""
+        return flat(self.loads.applied(t))
+
+    def hold(self, x, X0, t: float) -> np.ndarray:
+        """A copy of flat x with the held degrees of freedom at their prescribed values at t (reference X0)."""
+        x = np.array(x, dtype=float)
+        x[self.fixed] = flat(self.model.prescribed(X0, t))[self.fixed]
+        return x
