@@ -13,6 +13,8 @@ harness and the command line live in ``validation``. The design is in
 docs/design.md.
 """
 
+import warnings
+
 from .backends.contract import Backend, EnergyBackend, Sample
 from .contact.obstacles import Box, Cylinder, HalfSpace, Sphere
 from .contact.points import clearance
@@ -55,10 +57,11 @@ from .io import (
     save_checkpoint,
 )
 from .physics.energy import Energy
+from .physics.force_models import EnergyModel, ForceModel, StrengthModel
 from .physics.forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .physics.material import Material
 from .scene.constraints import Clamp, Pin, Slide, select
-from .scene.scene import FORCE_MODELS, IllPosedScene, Scene
+from .scene.scene import IllPosedScene, Scene
 from .solve.equilibrium import equilibrium
 from .solve.newton import ConvergenceError
 
@@ -67,7 +70,7 @@ __version__ = "0.1.0"
 __all__ = [
     "IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy", "Sample",
     "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
-    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "FORCE_MODELS", "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface",
+    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface",
     "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
     "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
     "DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
@@ -75,3 +78,14 @@ __all__ = [
     "save_checkpoint", "load_checkpoint", "RunFolder",
     "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder",
 ]
+
+#: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)
+_FORMER = {"FORCE_MODELS": (lambda: ForceModel.names(), "deformable.ForceModel.names()")}
+
+
+def __getattr__(name):
+    if name in _FORMER:
+        value, instead = _FORMER[name]
+        warnings.warn(f"deformable.{name} is deprecated; use {instead}", DeprecationWarning, stacklevel=2)
+        return value()
+    raise AttributeError(f"module 'deformable' has no attribute {name!r}")

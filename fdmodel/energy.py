@@ -48,6 +48,24 @@ validity mask and, for the control-area weighting, the trapezoidal share).
   order 0.8 on the nonlinear clamped plate; the paper, with eta_12 = xi_12 = 0,
   never meets it.
 
+A general energy density. A force model with its own density W(s, b)
+(:class:`deformable.physics.EnergyModel`) is integrated on the same parts
+with weights per residual: a residual the density couples with no other
+stands where its term of eq. (13) stands, with the same weights, so eq. (13)
+written as such a model gives the compiled path's energy to round-off
+(tests/deformable/physics/test_energy_models.py). Residuals the density
+couples must be evaluated at one point with one weight:
+
+- the metric alone (a membrane energy, a Poisson coupling of G11 and G22):
+  at the cell centres, from the cells' mean tangents, where G11, G22 and
+  G12 are all centred (the midpoint rule: second order);
+- the curvature alone: at the nodes, in the two halves of forward and
+  backward normals, weighted by the node's control area, B12 from D12+ (its
+  term stands half a cell away: first order in the coupling);
+- metric and curvature together: at the nodes with the paper's eq. (18)-(19)
+  and the control area (the metric terms are then first order at free
+  edges).
+
 Each part is a set of points (nodes, cells) at which the integrand of
 :mod:`deformable.physics.integrand` depends on a few *slot* vectors, each a
 difference of the positions: :class:`SlotMap` computes them (one sparse
@@ -59,8 +77,9 @@ Hessian is assembled node by node as an 18 x 18 block (6 nodes x 3
 coordinates) ``C_k^T H_k C_k`` from the point Hessians H_k and the stencil
 coefficients C_k of all parts, summed on one fixed pattern
 (:class:`deformable.algebra.elements.SymmetricElements`) by the compiled kernels of
-:mod:`deformable.physics.kernels`: no sparse-sparse product per call. Stencil positions outside the grid carry zero coefficients (the
-natural boundary rule) and point at the node itself.
+:mod:`deformable.physics.kernels`: no sparse-sparse product per call.
+Stencil positions outside the grid carry zero coefficients (the natural
+boundary rule) and point at the node itself.
 
 Vectors are laid out coordinate by coordinate: flat index ``a * ndof + k`` for
 coordinate a of node k.

@@ -17,8 +17,8 @@ row of the paper's pointwise equations stands for a cell area h1 h2, so
 M = h1 h2 diag(mu), C = h1 h2 diag(gamma), F = h1 h2 f at the node and
 K = h1 h2 K_paper. Mass, damping and loads are pointwise as in the paper
 (``weighting="pointwise"``, the default for tpbf87 and frozen). With
-``weighting="control-area"`` (the default for the variational model, for which
-the paper defines no FD) the
+``weighting="control-area"`` (the default for a force model with an energy
+density, the variational one among them, for which the paper defines no FD) the
 mass, damping and body loads of edge nodes are weighted by 1/2 and of corners
 by 1/4 together, and so is every difference row of K by the share of its
 centre's control area that lies in the sheet (rows of D1+ and D11 on the edges
@@ -29,15 +29,15 @@ control-volume scheme: second order at free edges. Weighting only M, C and F
 is consistent in 1-D but not in 2-D, where the fluxes along an edge row would
 keep their full weight against a halved load.
 
-Clamps. Under the variational model a clamp holds the edge row and eliminates
+Clamps. Under an energy density a clamp holds the edge row and eliminates
 a ghost row outside it by the clamp's slope (:mod:`fdmodel.clamp`): second
 order. Under tpbf87 and frozen it holds the edge row and the next one (the
 clamped line moves by h: first order), because K(r) R = F has no place for the
 ghost's affine term.
 
 G and B. For tpbf87 and frozen, :meth:`FDModel.tensors` gives the paper's
-eq. (18)-(19) at the nodes (what alpha, beta and K use). For the variational
-model it gives those of its energy (:mod:`fdmodel.energy`: each term at the
+eq. (18)-(19) at the nodes (what alpha, beta and K use). For an energy density
+it gives those of eq. (13) (:mod:`fdmodel.energy`: each term at the
 point where its stencil is centred, B11 and B22 the mean of the halves with
 the normals of forward and of backward tangents), carried to the nodes: second
 order at every node, where eq. (18)-(19) are first order (G11 = D1+ r . D1+ r
@@ -57,16 +57,9 @@ import scipy.sparse as sp
 from deformable.backends.contract import Sample, check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
-from deformable.physics.elasticity import (
-    QuadraticEnergy,
-    alpha,
-    beta,
-    lagged_alpha_step,
-    require_energy_gradient,
-    require_strength_matrix,
-)
 from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, Integrand
+from deformable.physics.force_models import EnergyModel, QuadraticEnergy
+from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, DensityIntegrand, Integrand
 from deformable.physics.loads import Loads
 from deformable.scene.constraints import Clamp, hold
 from deformable.scene.scene import Scene
@@ -115,16 +108,19 @@ class FDModel:
     scene : deformable.Scene
     weighting : "pointwise" | "control-area" | None
         Weighting of mass, damping, body loads and difference rows at edge nodes (module docstring).
-        None (the default): "control-area" for the variational model (the trapezoidal rule for its
-        energy; the paper defines no FD for it), the paper's "pointwise" for tpbf87 and frozen.
+        None (the default): "control-area" for a force model with an energy density (the trapezoidal rule
+        for its energy; the paper defines no FD for it), the paper's "pointwise" for tpbf87 and frozen.
 
     State arrays X are (M N, 3), node (m, n) at row m N + n.
     """
 
     def __init__(self, scene: Scene, weighting: str | None = None):
         check_scene(scene, "fd")  # a Scene whose grid fits in memory, before anything is allocated
+        fm = self.force_model = scene.force_model
+        #: the force is the gradient of an energy density (eq. (13) or another): ghost-row clamps, bending halves
+        self.density = isinstance(fm, EnergyModel)
         if weighting is None:
-            weighting = "control-area" if scene.force_model == "variational" else "pointwise"
+            weighting = "control-area" if self.density else "pointwise"
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
         self.scene, self.weighting = scene, weighting
@@ -133,7 +129,7 @@ class FDModel:
         self.h1, self.h2 = self.spacing = sheet.h
         self.ndof = M * N
         self.value_dofs = np.arange(self.ndof)
-        self.linear = scene.force_model == "frozen"
+        self.linear = fm.linear
         self.a1, self.a2 = sheet.coordinates()
         self.points = (self.a1, self.a2)
         self.contact_samples = CONTACT_SAMPLES
@@ -144,7 +140,7 @@ class FDModel:
         self.valid = valid_rows(M, N)
         # the reflection clamp (ghost rows) where the force is an energy gradient; K(r) keeps two held rows
         clamped = [e for c in scene.constraints if isinstance(c, Clamp) for e in c.edges]
-        self.ghost = GhostRows(sheet, clamped if scene.force_model == "variational" else ())
+        self.ghost = GhostRows(sheet, clamped if self.density else ())
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
         w1, w2 = np.ones(M), np.ones(N)
         if weighting == "control-area":
@@ -162,30 +158,32 @@ class FDModel:
         self._C = sp.diags((area * self.gamma * self.area_weight).ravel(), format="csr")
 
         # without bending weights K is the 5-point membrane stencil: keep its pattern that small
-        bend = mat.beta if scene.force_model == "frozen" else mat.xi
+        bend = getattr(mat, fm.weights[1])
         self.strength = StrengthMatrix(self.ops, self.row_weight, area,
                                        bending=bend is not None and bool(np.any(np.asarray(bend) != 0)))
         # rest state: discrete G0, B0 of the rest shape, or the scene's overrides
         self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
                                               *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
+        #: the Material's tensor fields on the node grid, (2, 2, M, N) each
+        self.fields = {name: mat.tensor(name, (M, N)) for name in ("eta", "xi", "alpha", "beta")}
+        self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         if self.linear:
-            self.alpha_fixed = mat.tensor("alpha", (M, N))
-            self.beta_fixed = mat.tensor("beta", (M, N))
+            self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
             self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
             self._energy = QuadraticEnergy(self._K_const, *self.strength.parts(self.alpha_fixed, self.beta_fixed))
         else:
-            self.eta = mat.tensor("eta", (M, N))
-            self.xi = mat.tensor("xi", (M, N))
             self._energy = self._discrete_energy(area)
         self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
                           clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=1 if self.ghost else 2)))
         self.loads = Loads(self)
 
     def _discrete_energy(self, area: float) -> DiscreteEnergy:
-        """Eq. (13) as node and cell parts (:mod:`fdmodel.energy`), rest tensors from the rest shape's own slots.
+        """The energy as node and cell parts (:mod:`fdmodel.energy`), rest tensors from the rest shape's own slots:
+        eq. (13) by the compiled integrand (tpbf87's energy, and the variational model's), any other energy
+        density by :class:`~deformable.physics.integrand.DensityIntegrand` (:meth:`_density_parts`).
 
-        Keeps the slot maps (``_node_slots``, ``_cell_slots`` and, for the variational model, ``_backward_slots``,
-        the bending half with the normal of backward tangents) for :meth:`tensors` of the variational model.
+        Keeps the slot maps (``_node_slots``, ``_cell_slots`` and, for an energy density, ``_backward_slots``, the
+        bending half with the normal of backward tangents) for :meth:`tensors`.
         """
         M, N, sheet, rw = self.M, self.N, self.scene.sheet, self.row_weight
         zero = np.zeros((M, N))
@@ -208,26 +206,64 @@ class FDModel:
         self._cell_slots = SlotMap([A1, A2, Z, ops["D12"], Z], (M, N), FE_SLOTS, beyond)
         shear = np.array([[zero, rw["D12"]], [rw["D12"], zero]])
         bend = np.array([[rw["D11"], zero], [zero, rw["D22"]]])
-        # the variational model splits B11, B22 into halves with the normals of forward and of backward tangents,
+        # an energy density splits B11, B22 into halves with the normals of forward and of backward tangents,
         # whose O(h) errors are opposite: their squares sum to a second-order density (fdmodel.energy)
         self._backward_slots = None
-        if self.scene.force_model == "variational":
+        generic = self.density and not self.force_model.compiled
+        if self.density:
             bops, Tb = self.ghost.operators(self.ops, tangents(M, N, self.h1, self.h2, backward=True))
             bnames = ("T1", "T2", "D11", "D12", "D22")
-            self._backward_slots = SlotMap([Tb[0], Tb[1], bops["D11"], Z, bops["D22"]], (M, N), FE_SLOTS,
+            v12 = bops["D12"] if generic else Z  # B12 in the backward half: for densities that couple it with B11, B22
+            self._backward_slots = SlotMap([Tb[0], Tb[1], bops["D11"], v12, bops["D22"]], (M, N), FE_SLOTS,
                                            offset(sheet.initial, bnames))
             bend = 0.5 * bend
+        X_rest = self.discretize(sheet.rest)
+        if generic:
+            return DiscreteEnergy(self._density_parts(area, X_rest, offset(sheet.rest, names),
+                                                      offset(sheet.rest, bnames)))
         parts = [(self._node_slots, offset(sheet.rest, names), np.array([[rw["D1"], zero], [zero, rw["D2"]]]), bend)]
         if self._backward_slots is not None:
             parts.append((self._backward_slots, offset(sheet.rest, bnames), np.zeros((2, 2, M, N)), bend))
         if np.any(self.eta[0, 1] + self.eta[1, 0] != 0) or np.any(self.xi[0, 1] + self.xi[1, 0] != 0):
             parts.append((self._cell_slots, None, shear, shear))
-        X_rest = self.discretize(sheet.rest)
         out = []
         for slots, rest_offset, eta_rows, xi_rows in parts:
             G0, B0 = self.scene.rest_tensors(self.a1, self.a2, *slots.tensors(X_rest, rest_offset))
             out.append((slots, Integrand(area * eta_rows * self.eta, area * xi_rows * self.xi, G0, B0, slots.layout)))
         return DiscreteEnergy(out)
+
+    def _density_parts(self, area: float, X_rest, node_offset, backward_offset) -> list:
+        """The parts of a general energy density: each residual where its term of eq. (13) stands, the residuals
+        the density couples at one point (:mod:`fdmodel.energy`, "A general energy density")."""
+        M, N, rw, fm = self.M, self.N, self.row_weight, self.force_model
+        zero = np.zeros((M, N))
+        # per residual (s11, s22, s12, b11, b22, b12), the weight of each part: eq. (13)'s places
+        q = {"node": [rw["D1"], rw["D2"], zero, 0.5 * rw["D11"], 0.5 * rw["D22"], zero],
+             "backward": [zero, zero, zero, 0.5 * rw["D11"], 0.5 * rw["D22"], zero],
+             "cell": [zero, zero, rw["D12"], zero, zero, rw["D12"]]}
+        for group in fm.groups():
+            if len(group) == 1:
+                continue
+            if max(group) < 3:  # the metric alone: at the cell centres, from the cells' mean tangents
+                places = {"cell": rw["D12"]}
+            elif min(group) >= 3:  # the curvature alone: at the nodes, in the two halves
+                places = {"node": 0.5 * self.area_weight, "backward": 0.5 * self.area_weight}
+            else:  # metric and curvature together: at the nodes, eq. (18)-(19)
+                places = {"node": self.area_weight}
+            for k in group:
+                for part in q:
+                    q[part][k] = places.get(part, zero)
+        slots = {"node": (self._node_slots, node_offset), "backward": (self._backward_slots, backward_offset),
+                 "cell": (self._cell_slots, None)}
+        params = {name: self.fields[name] for name in fm.fields}
+        out = []
+        for part, weights in q.items():
+            if not any(np.any(w) for w in weights):
+                continue
+            smap, rest_offset = slots[part]
+            G0, B0 = self.scene.rest_tensors(self.a1, self.a2, *smap.tensors(X_rest, rest_offset))
+            out.append((smap, DensityIntegrand(fm, params, area * np.stack(weights), G0, B0, smap.layout)))
+        return out
 
     def _centred_tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """G and B of the variational energy, each at its centre, carried to the nodes (second order).
@@ -268,7 +304,7 @@ class FDModel:
         second order at the stencil centres, first order at the nodes); for the variational model those of
         its energy, carried from their centres to the nodes (:meth:`_centred_tensors`, second order).
         """
-        if self.scene.force_model == "variational":
+        if self.density:
             return self._centred_tensors(X)
         return node_tensors(self.grid(X), self.h1, self.h2)
 
@@ -277,7 +313,7 @@ class FDModel:
         if self.linear:
             return self.alpha_fixed, self.beta_fixed
         G, B = node_tensors(self.grid(X), self.h1, self.h2)
-        return alpha(self.eta, G, self.G0), beta(self.xi, B, self.B0)
+        return self.force_model.coefficients(self.fields.__getitem__, G, self.G0, B, self.B0)
 
     def sample(self, X: np.ndarray, a: np.ndarray) -> Sample:
         """r, G, B at parameter points a (P, 2): exact at nodes, bilinear between them."""
@@ -297,12 +333,12 @@ class FDModel:
         """
         if self.linear:
             return self._K_const
-        require_strength_matrix(self.scene)
+        self.force_model.require_strength_matrix()
         return self.strength.matrix(*self.alpha_beta(X))
 
     def internal_force(self, X: np.ndarray) -> np.ndarray:
         """The internal force (N), (M N, 3): h1 h2 e of eq. (16) (K(r) R), or the energy gradient (variational)."""
-        if self.scene.force_model == "variational":
+        if not self.force_model.has_strength_matrix:
             return self.energy_gradient(X)
         return self.stiffness(X) @ X
 
@@ -312,7 +348,7 @@ class FDModel:
         Variational model: the gradient of eq. (13) (:mod:`fdmodel.energy`);
         frozen model: K R. The tpbf87 force (14) is not a gradient (ValueError).
         """
-        require_energy_gradient(self.scene)
+        self.force_model.require_energy()
         return self._energy.gradient(X)
 
     def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
@@ -320,7 +356,7 @@ class FDModel:
 
         ``kind`` "newton" (exact) or "gauss-newton" (positive semi-definite).
         """
-        require_energy_gradient(self.scene)
+        self.force_model.require_energy()
         return self._energy.hessian(X, kind)
 
     def mass(self) -> sp.csr_matrix:
@@ -398,7 +434,7 @@ class FDModel:
 
     def stable_step(self) -> float:
         """The stretching bound of the semi-implicit step (s): h sqrt(mu / (2 eta)) for tpbf87, else inf."""
-        return lagged_alpha_step(self.scene, self.mu, getattr(self, "eta", None), self.spacing, MEMBRANE_EIGENVALUE)
+        return self.force_model.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- energy ---------------------------------------------------------------
     def energy(self, X: np.ndarray) -> Energy:

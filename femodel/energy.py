@@ -33,7 +33,7 @@ import scipy.sparse as sp
 from deformable.algebra.elements import SymmetricElements, element_vectors
 from deformable.algebra.solvers import one_blas_thread
 from deformable.physics.energy import Energy
-from deformable.physics.integrand import FE_SLOTS, HESSIANS, Integrand, for_blocks, slot_tensors
+from deformable.physics.integrand import FE_SLOTS, HESSIANS, for_blocks, slot_tensors
 
 from .hermite import DERIVATIVES, evaluate
 
@@ -70,20 +70,17 @@ class DiscreteEnergy:
     ndof : int
     dq : dict (d1, d2) -> (16, nq)
         Shape-function derivatives at the Gauss points (:func:`femodel.hermite.basis`).
-    weights : array (nq,)
-        Gauss weights times the element area.
-    eta, xi, G0, B0 : arrays (2, 2, E, nq)
-        Weights and rest tensors at the Gauss points (G0, B0 from :func:`gauss_tensors`).
+    integrand : Integrand or DensityIntegrand
+        The energy's integrand at the E nq Gauss points (weights times the Gauss weights and element area;
+        rest tensors G0, B0 from :func:`gauss_tensors`).
     """
 
-    def __init__(self, ldofs: np.ndarray, ndof: int, dq: dict, weights: np.ndarray, eta: np.ndarray,
-                 xi: np.ndarray, G0: np.ndarray, B0: np.ndarray):
+    def __init__(self, ldofs: np.ndarray, ndof: int, dq: dict, integrand):
         self.ldofs, self.ndof, self.dq = ldofs, ndof, dq
-        self.nq = nq = weights.size
+        self.nq = nq = dq[SLOTS[0]].shape[1]
         self.D = np.stack([dq[k] for k in SLOTS]).transpose(2, 0, 1).copy()  # (nq, 5, 16)
         self.Dflat = self.D.reshape(nq * 5, 16)  # rows (q, k)
-        w = weights[None, None, None, :]
-        self.integrand = Integrand(eta * w, xi * w, G0, B0, FE_SLOTS)
+        self.integrand = integrand
         self._scatter = element_vectors(ldofs, ndof)
         self._pattern = None
         self.DflatT = np.ascontiguousarray(self.Dflat.T)

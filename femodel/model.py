@@ -92,16 +92,9 @@ from deformable.backends.contract import Sample, check_scene
 from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
 from deformable.geometry.tensors import frame
-from deformable.physics.elasticity import (
-    QuadraticEnergy,
-    alpha,
-    beta,
-    lagged_alpha_step,
-    require_energy_gradient,
-    require_strength_matrix,
-)
 from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.integrand import FE_SLOTS, slot_tensors
+from deformable.physics.force_models import EnergyModel, QuadraticEnergy
+from deformable.physics.integrand import FE_SLOTS, DensityIntegrand, Integrand, slot_tensors
 from deformable.physics.loads import Loads
 from deformable.scene.constraints import hold
 from deformable.scene.scene import Scene
@@ -163,7 +156,8 @@ class FEModel:
         self.h1, self.h2 = self.spacing = sheet.h
         self.ndof = NODE_DOFS * M * N
         self.value_dofs = NODE_DOFS * np.arange(M * N)
-        self.linear = scene.force_model == "frozen"
+        fm = self.force_model = scene.force_model
+        self.linear = fm.linear
         self.mesh = skfem.MeshQuad.init_tensor(*sheet.axes())
         self._build_elements()
         self._build_quadrature()
@@ -177,22 +171,28 @@ class FEModel:
         self._C = self.strength.density_matrix(self.gamma)
         self._scatter = element_vectors(self.ldofs, self.ndof)  # element load vectors (E 16) -> (ndof)
 
+        #: the Material's tensor fields at the Gauss points, (2, 2, E, nq) each
+        self.fields = {name: self.to_quadrature(mat.tensor(name, (M, N))) for name in ("eta", "xi", "alpha", "beta")}
+        self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # rest state at the Gauss points: the discretised rest shape, or the scene's overrides
         if self.linear:
-            self.alpha_fixed = self.to_quadrature(mat.tensor("alpha", (M, N)))
-            self.beta_fixed = self.to_quadrature(mat.tensor("beta", (M, N)))
+            self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
             self._bending = bool(np.any(self.beta_fixed != 0))
             self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
             self._energy = QuadraticEnergy(self._K_const, self.strength.matrix(self.alpha_fixed, None),
                                            self.strength.matrix(None, self.beta_fixed))
         else:
-            self.eta = self.to_quadrature(mat.tensor("eta", (M, N)))
-            self.xi = self.to_quadrature(mat.tensor("xi", (M, N)))
             self._bending = bool(np.any(self.xi != 0))
             G, B = self.tensors(self.discretize(sheet.rest), curvature=True)
             self.G0, self.B0 = scene.rest_tensors(self.a1q, self.a2q, G, B)
-            self._energy = DiscreteEnergy(self.ldofs, self.ndof, self.dq, self.weights, self.eta, self.xi,
-                                          self.G0, self.B0)
+            w = self.weights[None, None, None, :]
+            if isinstance(fm, EnergyModel) and not fm.compiled:  # a general density: the same Gauss rule
+                params = {name: self.fields[name] for name in fm.fields}
+                q = np.broadcast_to(self.weights, (6, *self.a1q.shape))
+                integrand = DensityIntegrand(fm, params, q, self.G0, self.B0, FE_SLOTS)
+            else:  # eq. (13), compiled: the variational model, and tpbf87's energy
+                integrand = Integrand(self.eta * w, self.xi * w, self.G0, self.B0, FE_SLOTS)
+            self._energy = DiscreteEnergy(self.ldofs, self.ndof, self.dq, integrand)
         self._held = hold(scene, self.ndof, node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs,
                           clamp_dofs=self._clamp_dofs)
         self.loads = Loads(self)
@@ -291,8 +291,7 @@ class FEModel:
         if self.linear:
             return self.alpha_fixed, self.beta_fixed
         G, B = self.tensors(X, curvature=self._bending)
-        a = alpha(self.eta, G, self.G0)
-        return a, beta(self.xi, B, self.B0) if self._bending else np.zeros_like(a)
+        return self.force_model.coefficients(self.fields.__getitem__, G, self.G0, B, self.B0)
 
     def _locate(self, a: np.ndarray, what: str):
         """Element index, reference coordinates s, t of parameter points a (P, 2)."""
@@ -334,7 +333,7 @@ class FEModel:
         """
         if self.linear:
             return self._K_const
-        require_strength_matrix(self.scene)
+        self.force_model.require_strength_matrix()
         return self.strength.matrix(*self.alpha_beta(X))
 
     def energy_gradient(self, X: np.ndarray) -> np.ndarray:
@@ -344,7 +343,7 @@ class FEModel:
         (:mod:`femodel.energy`); frozen model: K R. The tpbf87 force (14)
         is not a gradient (ValueError).
         """
-        require_energy_gradient(self.scene)
+        self.force_model.require_energy()
         return self._energy.gradient(self._check_state(X))
 
     def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
@@ -354,7 +353,7 @@ class FEModel:
         (symmetric positive semi-definite), on a fixed pattern. Frozen model:
         the block diagonal of K (exact, so ``kind`` does not matter).
         """
-        require_energy_gradient(self.scene)
+        self.force_model.require_energy()
         return self._energy.hessian(self._check_state(X), kind)
 
     def internal_force(self, X: np.ndarray) -> np.ndarray:
@@ -362,7 +361,7 @@ class FEModel:
 
         K(r) R for tpbf87 and frozen; the energy gradient for the variational model.
         """
-        if self.scene.force_model == "variational":
+        if not self.force_model.has_strength_matrix:
             return self.energy_gradient(X)
         return self.stiffness(X) @ self._check_state(X)
 
@@ -444,7 +443,7 @@ class FEModel:
 
     def stable_step(self) -> float:
         """The stretching bound of the semi-implicit step (s): about 0.21 h sqrt(mu / (2 eta)) for tpbf87, else inf."""
-        return lagged_alpha_step(self.scene, self.mu, getattr(self, "eta", None), self.spacing, MEMBRANE_EIGENVALUE)
+        return self.force_model.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- constraints ----------------------------------------------------------
     def _node_dofs(self, mask: np.ndarray, k: int = 0) -> np.ndarray:

@@ -28,6 +28,7 @@ import scipy.sparse as sp
 from ..errors import InputError
 from ..limits import check_memory
 from ..physics.energy import Energy
+from ..physics.force_models import ForceModel
 from ..physics.loads import Loads
 from ..scene.scene import Scene
 
@@ -128,9 +129,9 @@ BYTES_PER_NODE = {("fd", "implicit"): 64e3, ("fd", "semi-implicit"): 16e3,
                   ("fe", "implicit"): 340e3, ("fe", "semi-implicit"): 64e3}
 
 
-def memory_estimate(nodes, backend: str, force_model: str = "variational") -> float:
-    """Bytes a model of ``nodes`` = (M, N) on ``backend`` ("fd" | "fe") and its time step need (an estimate)."""
-    kind = "implicit" if force_model == "variational" else "semi-implicit"
+def memory_estimate(nodes, backend: str, force_model="variational") -> float:
+    """Bytes a model of ``nodes`` = (M, N) on ``backend`` and its time step need (an estimate)."""
+    kind = "implicit" if ForceModel.of(force_model).implicit else "semi-implicit"
     M, N = nodes
     return BYTES_PER_NODE[backend, kind] * float(M) * float(N)
 

@@ -1,15 +1,23 @@
 """Motion: the run controller (:mod:`.stepper`), its trackers, and the time-stepping schemes.
 
 - :mod:`.state`: State, RunResult, DivergenceError;
-- :mod:`.stepper`: TimeStepper, the controller;
+- :mod:`.stepper`: TimeStepper, the controller (it knows no scheme);
 - :mod:`.trackers`: progress, energy monitor, divergence guard, callbacks;
+- :mod:`.scheme`: what a scheme is, the registry of schemes;
 - :mod:`.semi_implicit`: the paper's eq. (22)-(27);
-- :mod:`.implicit`: implicit Euler and Newmark on an incremental potential.
+- :mod:`.implicit`: the Newton step on an incremental potential, shared by :mod:`.implicit_euler` and
+  :mod:`.newmark`.
 """
 
+from .implicit import Implicit, StepRejected
+from .implicit_euler import ImplicitEuler
+from .newmark import Newmark
+from .scheme import Scheme
+from .semi_implicit import SemiImplicit
 from .state import DivergenceError, RunResult, StalledError, State
 from .stepper import SCHEMES, TimeStepper
 from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Stop, Tracker
 
-__all__ = ["DivergenceError", "RunResult", "StalledError", "State", "SCHEMES", "TimeStepper", "Callback", "DivergenceGuard",
-           "EnergyMonitor", "ProgressBar", "Stop", "Tracker"]
+__all__ = ["DivergenceError", "RunResult", "StalledError", "State", "SCHEMES", "TimeStepper", "Callback",
+           "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "Scheme", "SemiImplicit", "Implicit",
+           "ImplicitEuler", "Newmark", "StepRejected"]

@@ -1,4 +1,4 @@
-r"""Implicit time steps for models with an energy (the "variational" and "frozen" force models).
+r"""Implicit time steps for models with an energy: the Newton step both implicit schemes share.
 
 For a model whose internal force is the gradient of an energy E (the exact
 gradient of eq. (13), or the quadratic energy of the frozen model), each step
@@ -6,19 +6,22 @@ minimises an incremental potential over the free degrees of freedom by
 Newton's method (:class:`deformable.solve.newton.Newton`). With M, C, F the
 backend's integrated matrices and load and x-hat = x_n + dt v_n:
 
-- ``"implicit-euler"`` (first order, dissipative: with gamma = 0 and no load the
-  total energy does not grow)::
+- ``"implicit-euler"`` (:mod:`.implicit_euler`; first order, dissipative: with
+  gamma = 0 and no load the total energy does not grow)::
 
       Phi(x) = |x - x-hat|^2_M / (2 dt^2) + |x - x_n|^2_C / (2 dt) + E(x) - F_{n+1} . x
       v_{n+1} = (x_{n+1} - x_n) / dt
 
-- ``"newmark"`` (beta = 1/4, gamma = 1/2, the trapezoidal rule: second order,
-  no numerical damping of linear modes)::
+- ``"newmark"`` (:mod:`.newmark`; beta = 1/4, gamma = 1/2, the trapezoidal rule:
+  second order, no numerical damping of linear modes)::
 
       Phi(x) = 2 |x - x-hat|^2_M / dt^2 - (M a_n) . x + |x - x_n|^2_C / dt - (C v_n) . x + E(x) - F_{n+1} . x
       a_{n+1} = 4 (x_{n+1} - x-hat) / dt^2 - a_n,   v_{n+1} = 2 (x_{n+1} - x_n) / dt - v_n
 
 The stationarity of Phi is the equation of motion (11) at t_{n+1} in each scheme.
+A scheme of this kind is a subclass of :class:`Implicit` that gives its
+Newton matrix's multipliers of M and C, its potential, the start of its
+search and its update of v and a.
 
 External forces (:mod:`deformable.physics.loads`): applied loads are F_{n+1}; the
 scene's springs are part of E (their anchors at t_{n+1}); the wind, which
@@ -45,16 +48,17 @@ returned: it raises :class:`StepRejected`.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..solve.newton import ConvergenceError, Newton, NewtonSettings
 from ..solve.potential import FlatEnergy, flat, unflat
+from .scheme import Scheme
 from .state import DivergenceError, State
 
-__all__ = ["Implicit", "IMPLICIT_SCHEMES", "StepRejected"]
-
-IMPLICIT_SCHEMES = ("implicit-euler", "newmark")
+__all__ = ["Implicit", "StepRejected"]
 
 
 class StepRejected(RuntimeError):
@@ -65,15 +69,18 @@ class StepRejected(RuntimeError):
         self.report = report
 
 
-class Implicit:
-    """Newton-based steps of the implicit-Euler or Newmark scheme (module docstring).
+class Implicit(Scheme):
+    """Newton-based steps on an incremental potential (module docstring); subclasses are the schemes.
 
     Parameters
     ----------
-    model : Backend with an energy (force model "variational" or "frozen")
-    scheme : "implicit-euler" | "newmark"
+    model : Backend with an energy (a force model with ``has_energy``)
+    dt : float
+        The requested step (s); each :meth:`step` takes its own.
     newton : NewtonSettings or dict, optional
         rtol, atol, max_iter, hessian, solver, reuse (:class:`deformable.solve.newton.NewtonSettings`).
+    solver : ignored
+        (The semi-implicit scheme's; the Newton settings name the solver here.)
 
     Attributes
     ----------
@@ -82,18 +89,38 @@ class Implicit:
         Steps whose Newton solve failed (and were retried by the controller).
     timings : dict
         Seconds spent in the Newton solves: "hessian", "factor", "solve", "search".
+
+    Subclasses give :attr:`start` and the three methods below.
     """
 
+    implicit = True
     adaptive = True
+    #: the predictor's acceleration term: the search starts from x-hat + start dt^2 a_n
+    start: ClassVar[float] = 1.0
 
-    def __init__(self, model, scheme: str, newton: NewtonSettings | dict | None = None):
-        self.model, self.name = model, scheme
+    def __init__(self, model, dt: float | None = None, newton: NewtonSettings | dict | None = None,
+                 solver: str = "auto"):
+        self.model = model
         self.flat = FlatEnergy(model)
         self.newton = Newton(self.flat, newton)
         self.reports: list = []
         self.rejected = 0
         self.timings = {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0}
 
+    # -- what a scheme gives ------------------------------------------------------------
+    def coefficients(self, dt: float) -> tuple[float, float]:
+        """The multipliers (c_M, c_C) of M and C in the Newton matrix."""
+        raise NotImplementedError
+
+    def potential(self, state, M, C, F, xn, vn, xhat, dt: float):
+        """The step's potential and its gradient, two callables of the flat x (``grad(x, contact=True)``)."""
+        raise NotImplementedError
+
+    def update(self, x, xn, vn, xhat, dt: float):
+        """The velocity and acceleration (flat) at the step's end x."""
+        raise NotImplementedError
+
+    # -- the step --------------------------------------------------------------------
     def acceleration(self, state) -> np.ndarray:
         """a = M^-1 (F - C v - grad E) at a state (flat), for starting Newmark."""
         fl = self.flat
@@ -124,27 +151,8 @@ class Implicit:
             D = fl.loads.wind_damping(state.X, state.V, t1)
             F = F + flat(fl.loads.wind_force(state.X, state.V, t1)) + D @ vn
             C = C + D
-        cm, cc = (1 / dt**2, 1 / dt) if self.name == "implicit-euler" else (4 / dt**2, 2 / dt)
-        if self.name == "implicit-euler":
-
-            def phi(x):
-                dx, dn = x - xhat, x - xn
-                return 0.5 * dx @ (M @ dx) / dt**2 + 0.5 * dn @ (C @ dn) / dt + fl.energy(x) - F @ x
-
-            def grad(x, contact=True):
-                return M @ (x - xhat) / dt**2 + C @ (x - xn) / dt + fl.gradient(x, contact) - F
-        else:
-            an = self.acceleration(state) if state.A is None else flat(state.A)
-            Man, Cvn = M @ an, C @ vn
-
-            def phi(x):
-                dx, dn = x - xhat, x - xn
-                return (2 * dx @ (M @ dx) / dt**2 - Man @ x + dn @ (C @ dn) / dt - Cvn @ x
-                        + fl.energy(x) - F @ x)
-
-            def grad(x, contact=True):
-                return 4 * M @ (x - xhat) / dt**2 - Man + 2 * C @ (x - xn) / dt - Cvn + fl.gradient(x, contact) - F
-
+        cm, cc = self.coefficients(dt)
+        phi, grad = self.potential(state, M, C, F, xn, vn, xhat, dt)
         label = f"{self.name} step {state.step + 1} (t = {t1:.6g} s, dt = {dt:.3g} s)"
         fl.t = t1
         # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
@@ -152,7 +160,7 @@ class Implicit:
         start = fl.hold(xhat, X0, t1)
         scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
         if state.A is not None:
-            start = fl.hold(xhat + (dt**2 if self.name == "implicit-euler" else 0.5 * dt**2) * flat(state.A), X0, t1)
+            start = fl.hold(xhat + (self.start * dt**2) * flat(state.A), X0, t1)
         if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow
             fl.contact.lag(xn, dt)
             start = fl.hold(fl.contact.safe_start(xn, start - xn), X0, t1)
@@ -172,11 +180,12 @@ class Implicit:
             raise StepRejected(f"{label}: Newton stopped after {report.iterations} iterations at residual "
                                f"{report.residuals[-1]:.3e} N", report)
         self.reports.append(report)
-        if self.name == "implicit-euler":
-            v = (x - xn) / dt
-            a = (v - vn) / dt
-        else:
-            a = 4 * (x - xhat) / dt**2 - an
-            v = 2 * (x - xn) / dt - vn
+        v, a = self.update(x, xn, vn, xhat, dt)
         n = fl.n
         return State(t=t1, X=unflat(x, n), V=unflat(v, n), step=state.step + 1, A=unflat(a, n))
+
+
+def __getattr__(name):
+    if name == "IMPLICIT_SCHEMES":  # the former tuple of names: the registry's implicit schemes
+        return tuple(n for n in Scheme.names() if Scheme.lookup(n).implicit)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -40,12 +40,13 @@ import numpy as np
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import SPLU_OPTIONS, make_solver
 from ..contact.repulsion import Repulsion
+from .scheme import Scheme
 from .state import DivergenceError, State
 
 __all__ = ["SemiImplicit", "SPLU_OPTIONS"]
 
 
-class SemiImplicit:
+class SemiImplicit(Scheme):
     """Steps of eq. (22)-(27) for a model with a strength matrix (force models tpbf87 and frozen).
 
     Parameters
@@ -53,6 +54,8 @@ class SemiImplicit:
     model : Backend
     dt : float
         Time step (s).
+    newton : ignored
+        (The implicit schemes' Newton settings; this scheme solves one linear system a step.)
     solver : str
         "auto", "superlu" or "pardiso" (:func:`deformable.algebra.solvers.make_solver`).
 
@@ -63,9 +66,9 @@ class SemiImplicit:
     """
 
     name = "semi-implicit"
-    adaptive = False
+    rank = 0
 
-    def __init__(self, model, dt: float, solver: str = "auto"):
+    def __init__(self, model, dt: float, newton=None, solver: str = "auto"):
         self.model, self.dt, self.solver = model, dt, solver
         self.timings = {"assembly": 0.0, "factorisation": 0.0, "solve": 0.0}
         M, C = model.mass(), model.damping()
@@ -125,7 +128,7 @@ class SemiImplicit:
         """
         if dt is not None and dt != self.dt:
             if dt not in self._other:
-                self._other[dt] = SemiImplicit(self.model, dt, self.solver)
+                self._other[dt] = SemiImplicit(self.model, dt, solver=self.solver)
             new = self._other[dt].step(state, X0)
             for k, v in self._other[dt].timings.items():
                 self.timings[k] += v

@@ -5,13 +5,15 @@ run (the constraint reference X0), advances it step by step
 (:meth:`~TimeStepper.iterate`), and runs it under trackers
 (:meth:`~TimeStepper.run`: progress, output, energy, divergence guard), each
 of which watches at its own cadence and may stop the run. The schemes know
-nothing of the run:
+nothing of the run, and the controller knows no scheme: it looks the scheme up
+by name in the registry (:class:`~deformable.dynamics.scheme.Scheme`), the force
+model's own ``scheme`` by default, and asks it whether it suits the force model:
 
 - ``"semi-implicit"``: the paper's eq. (22)-(27) (:mod:`deformable.dynamics.semi_implicit`),
-  for the tpbf87 and frozen force models (their default);
+  for force models with a strength matrix (tpbf87 and frozen: their default);
 - ``"implicit-euler"`` and ``"newmark"``: Newton steps on an incremental
-  potential (:mod:`deformable.dynamics.implicit`), for models with an energy
-  (the variational model's default is implicit Euler).
+  potential (:mod:`deformable.dynamics.implicit`), for force models with an
+  energy (an energy density's default is implicit Euler).
 
 The old name of the paper's scheme, ``"tpbf87"`` (also a force model's name),
 is still accepted with a DeprecationWarning.
@@ -51,8 +53,11 @@ import numpy as np
 from ..algebra.solvers import one_blas_thread
 from ..checks import count, real
 from ..errors import InputError, ResourceError
-from ..physics.elasticity import stretching_step
-from .implicit import IMPLICIT_SCHEMES, Implicit, StepRejected
+from ..physics.force_models import stretching_step
+from .implicit import StepRejected
+from .implicit_euler import ImplicitEuler
+from .newmark import Newmark
+from .scheme import Scheme
 from .semi_implicit import SemiImplicit
 from .state import DivergenceError, RunResult, StalledError, State
 from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
@@ -60,7 +65,8 @@ from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
 __all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down", "DT_MIN", "MAX_STEPS"]
 
 log = logging.getLogger(__name__)
-SCHEMES = ("semi-implicit",) + IMPLICIT_SCHEMES
+#: the built-in schemes (the registry, :class:`Scheme`, knows any other)
+SCHEMES = tuple(cls.name for cls in (SemiImplicit, ImplicitEuler, Newmark))
 #: former scheme names -> current ones
 _RENAMED = {"tpbf87": "semi-implicit"}
 #: an adapted dt doubles after this many accepted steps in a row (up to the requested dt)
@@ -131,19 +137,15 @@ class TimeStepper:
             raise InputError(f"solver must be one of {SOLVERS}, got {solver!r}", field="solver", value=solver)
         force_model = model.scene.force_model
         if not (scheme is None or isinstance(scheme, str)):
-            raise InputError(f"scheme must be one of {SCHEMES}, got {scheme!r}", field="scheme", value=scheme)
+            raise InputError(f"scheme must be one of {Scheme.names()}, got {scheme!r}", field="scheme", value=scheme)
         if scheme in _RENAMED:
             warnings.warn(f"scheme {scheme!r} is now called {_RENAMED[scheme]!r}", DeprecationWarning, stacklevel=2)
             scheme = _RENAMED[scheme]
-        scheme = scheme or ("implicit-euler" if force_model == "variational" else "semi-implicit")
-        if scheme not in SCHEMES:
-            raise InputError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-        if scheme == "semi-implicit" and force_model == "variational":
-            raise InputError("scheme 'semi-implicit' lags the strength matrix K(r) of eq. (20), which the variational "
-                             "model does not have; use 'implicit-euler' or 'newmark'")
-        if scheme != "semi-implicit" and force_model == "tpbf87":
-            raise InputError(f"scheme {scheme!r} needs an energy; the tpbf87 force (14) is not a gradient "
-                             "(use force_model 'variational', or scheme 'semi-implicit')")
+        scheme = scheme or force_model.scheme
+        if scheme not in Scheme.names():
+            raise InputError(f"scheme must be one of {Scheme.names()}, got {scheme!r}", field="scheme", value=scheme)
+        kind = Scheme.lookup(scheme)
+        kind.check(force_model)
         self.model, self.scheme = model, scheme
         self.auto = isinstance(dt, str) and dt == "auto"
         self.dt = self._resolve_dt(dt)
@@ -153,20 +155,19 @@ class TimeStepper:
             raise InputError(f"dt_min must be a positive number not above dt = {self.dt:g} s, got {dt_min!r}")
         self.dt_min, self.dt_now, self.rejected = float(dt_min), self.dt, 0
         self._accepted = 0
-        self._scheme = (SemiImplicit(model, self.dt, solver) if scheme == "semi-implicit"
-                        else Implicit(model, scheme, newton))
+        self._scheme = kind(model, self.dt, newton=newton, solver=solver)
 
     def _resolve_dt(self, dt) -> float:
         model = self.model
         if isinstance(dt, str) and dt == "auto":
-            if self.scheme == "semi-implicit":
+            if not Scheme.lookup(self.scheme).implicit:
                 bound = model.stable_step()
                 if not np.isfinite(bound):
                     raise InputError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
                                      "stretching bound; give dt")
                 return round_down(0.5 * bound)
             mat, h = model.scene.material, min(model.scene.sheet.h)
-            weight = np.asarray(mat.alpha if model.scene.force_model == "frozen" else mat.eta)
+            weight = np.asarray(model.scene.force_model.stretching_weight(mat))
             bound = stretching_step(float(np.min(mat.mu)), float(np.max(weight)) if weight.size else 0.0, 4 / h**2)
             if not np.isfinite(bound):
                 raise InputError("dt 'auto' needs a stretching weight to set the step; give dt")

@@ -11,8 +11,9 @@ point fields
 - ``B11, B12, B22``: the curvature of eq. (8) (FD: eq. (19)),
 - ``speed``: |r_t| (m/s), from the stepper's V of eq. (27),
 - ``energy_density``: the integrand of eq. (13),
-  ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2`` (J/m^2)
-  (:func:`deformable.physics.elasticity.energy_density`),
+  ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2`` (J/m^2), or the
+  density of the scene's energy model
+  (:meth:`deformable.physics.ForceModel.density_field`),
 - ``displacement``: r - r(start of the run) (m), so readers that keep the
   first geometry (meshio's TimeSeriesReader) recover the positions; a resumed
   run measures it from the original start, not from the resume point.
@@ -58,7 +59,6 @@ from ..checks import count, real
 from ..dynamics.trackers import Tracker
 from ..errors import InputError, WriteError
 from ..limits import DATASET_BYTES, check_room
-from ..physics.elasticity import energy_density
 
 __all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time"]
 
@@ -84,8 +84,7 @@ class NodeFields:
         G0, B0 = scene.rest_tensors(a1.ravel(), a2.ravel(), _components_first(rest.G), _components_first(rest.B))
         self.G0, self.B0 = G0, B0  # (2, 2, P)
         mat = scene.material
-        self.eta = mat.tensor("eta", (M, N)).reshape(2, 2, -1)  # (2, 2, P)
-        self.xi = mat.tensor("xi", (M, N)).reshape(2, 2, -1)
+        self.fields = {name: mat.tensor(name, (M, N)).reshape(2, 2, -1) for name in ("eta", "xi", "alpha", "beta")}
         # quads of the node grid, counter-clockwise in (a1, a2)
         idx = np.arange(M * N).reshape(M, N)
         self.cells = np.column_stack([idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(),
@@ -100,8 +99,8 @@ class NodeFields:
         s = self.model.sample(X, self.a)
         G, B = s.G, s.B
         vel = np.asarray(self.model.grid(V), float).reshape(-1, 3)
-        stretching, bending = energy_density(self.eta, self.xi, _components_first(G), self.G0,
-                                             _components_first(B), self.B0)
+        stretching, bending = self.model.scene.force_model.density_field(
+            self.fields.__getitem__, _components_first(G), self.G0, _components_first(B), self.B0)
         density = stretching + bending
         return {
             "G11": G[:, 0, 0], "G12": G[:, 0, 1], "G22": G[:, 1, 1],

@@ -2,7 +2,8 @@
 
 - :mod:`.material`: mu, gamma, eta, xi (and the frozen model's alpha, beta);
 - :mod:`.energy`: the energy split into stretching and bending, the kinetic energy;
-- :mod:`.elasticity`: eq. (13)-(15): alpha, beta, the energy density, the semi-implicit stretching bound;
+- :mod:`.force_models`: the force of eq. (11) as registered objects: the paper's (14)-(15), the frozen
+  model of section 3.2, the exact gradient of eq. (13), and any energy density W(s, b) one adds;
 - :mod:`.integrand`: eq. (13)'s integrand at points with its exact gradient and Hessians;
 - :mod:`.kernels`: their compiled (numba) loops;
 - :mod:`.forces`: gravity, body and edge loads, point loads, springs (the paper's coils), wind;
@@ -11,25 +12,27 @@
 Imports the ground floor, :mod:`deformable.geometry` and :mod:`deformable.algebra`.
 """
 
-from .elasticity import (
+from .energy import Energy, kinetic_energy
+from .force_models import (
+    RESIDUALS,
+    TPBF87,
+    EnergyModel,
+    ForceModel,
+    Frozen,
     QuadraticEnergy,
+    StrengthModel,
+    Variational,
     alpha,
     beta,
     energy_density,
-    lagged_alpha_step,
-    require_energy_gradient,
-    require_strength_matrix,
     stretching_step,
 )
-from .energy import Energy, kinetic_energy
 from .forces import BodyForce, EdgeLoad, Force, Gravity, PointLoad, Sinusoidal, Spring, Wind
-from .integrand import FD_SLOTS, FE_SLOTS, HESSIANS, Integrand, for_blocks, hessian_threads, slot_tensors
-from .kernels import KINDS, element_upper, point_gradients, point_hessians, positive_part
+from .integrand import FD_SLOTS, FE_SLOTS, HESSIANS, DensityIntegrand, Integrand, slot_tensors
 from .loads import Loads
 from .material import Material
 
-__all__ = ["Material", "Energy", "kinetic_energy", "alpha", "beta", "energy_density", "stretching_step",
-           "lagged_alpha_step", "QuadraticEnergy", "require_energy_gradient", "require_strength_matrix", "Integrand",
-           "slot_tensors", "for_blocks", "hessian_threads", "HESSIANS", "FE_SLOTS", "FD_SLOTS", "KINDS",
-           "point_gradients", "point_hessians", "element_upper", "positive_part", "Gravity", "BodyForce", "EdgeLoad",
-           "PointLoad", "Spring", "Wind", "Sinusoidal", "Force", "Loads"]
+__all__ = ["Material", "Energy", "kinetic_energy", "ForceModel", "StrengthModel", "EnergyModel", "RESIDUALS",
+           "TPBF87", "Frozen", "Variational", "QuadraticEnergy", "alpha", "beta", "energy_density", "stretching_step",
+           "Integrand", "DensityIntegrand", "slot_tensors", "HESSIANS", "FE_SLOTS", "FD_SLOTS", "Gravity", "BodyForce",
+           "EdgeLoad", "PointLoad", "Spring", "Wind", "Sinusoidal", "Force", "Loads"]

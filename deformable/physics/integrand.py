@@ -64,10 +64,12 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import tensors
 from . import kernels
-from .elasticity import energy_density
 from .energy import Energy
+from .force_models.base import RESIDUALS as RESIDUAL_NAMES
+from .force_models.base import energy_density
 
-__all__ = ["Integrand", "slot_tensors", "for_blocks", "hessian_threads", "HESSIANS", "FE_SLOTS", "FD_SLOTS"]
+__all__ = ["Integrand", "DensityIntegrand", "slot_tensors", "for_blocks", "hessian_threads", "HESSIANS", "FE_SLOTS",
+           "FD_SLOTS"]
 
 HESSIANS = ("newton", "gauss-newton", "definite", "projected")
 #: slot names in the order of the slot axis: (d1, d2, t1, t2, v11, v12, v22) -> position
@@ -128,7 +130,31 @@ def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np
     return sym(G), None if B is None else sym(B)
 
 
-class Integrand:
+class _Points:
+    """What both integrands share: the Hessians of all points carried to their elements (:meth:`add_element_hessians`).
+
+    A subclass gives ``_point_hessians(v, kind, sl)``: the point Hessians (P, 3S, 3S) of the points ``sl``.
+    """
+
+    def add_element_hessians(self, v: np.ndarray, kind: str, table: np.ndarray, which: np.ndarray,
+                             element: np.ndarray, out: np.ndarray) -> None:
+        """Add the Hessian of every point, carried to its element, to the elements' upper triangles ``out`` (E, nu).
+
+        Point p's block is ``B^T H_p B`` (x I3), ``B = table[which[p]]`` (S, L): the coefficients of the
+        element's L local nodes (FD: the stencil) or basis functions (FE) in the point's slots; local index
+        ``a L + l``, upper entries in ``numpy.triu_indices(3 L)`` order
+        (:class:`deformable.algebra.elements.SymmetricElements`).
+        Compiled (:mod:`deformable.physics.kernels`), by blocks of points small enough for the cache.
+        """
+        def block(lo):
+            pts = slice(lo, min(lo + _BLOCK, v.shape[0]))
+            kernels.element_upper(self._point_hessians(v[pts], kind, pts), table, which[pts], element[pts], out)
+
+        # in threads when every point has an element of its own (FD: its node): no two blocks add to one row of out
+        for_blocks(block, range(0, v.shape[0], _BLOCK), parallel=bool(np.all(np.diff(element) > 0)))
+
+
+class Integrand(_Points):
     """Eq. (13)'s integrand at P points with its gradient and Hessians in the slot vectors.
 
     Parameters
@@ -193,18 +219,106 @@ class Integrand:
         P, S = v.shape[0], self.S
         return self._point_hessians(v, kind, sl).reshape(P, S, 3, S, 3)
 
-    def add_element_hessians(self, v: np.ndarray, kind: str, table: np.ndarray, which: np.ndarray,
-                             element: np.ndarray, out: np.ndarray) -> None:
-        """Add the Hessian of every point, carried to its element, to the elements' upper triangles ``out`` (E, nu).
 
-        Point p's block is ``B^T H_p B`` (x I3), ``B = table[which[p]]`` (S, L): the coefficients of the
-        element's L local nodes (FD: the stencil) or basis functions (FE) in the point's slots; local index
-        ``a L + l``, upper entries in ``numpy.triu_indices(3 L)`` order (:class:`deformable.algebra.elements.SymmetricElements`).
-        Compiled (:mod:`deformable.physics.kernels`), by blocks of points small enough for the cache.
-        """
-        def block(lo):
-            pts = slice(lo, min(lo + _BLOCK, v.shape[0]))
-            kernels.element_upper(self._point_hessians(v[pts], kind, pts), table, which[pts], element[pts], out)
+class DensityIntegrand(_Points):
+    """A general energy density's integrand at P points (:class:`deformable.physics.EnergyModel`), with its exact
+    gradient and Hessians in the slot vectors: the backends' path for every energy but eq. (13)'s compiled one.
 
-        # in threads when every point has an element of its own (FD: its node): no two blocks add to one row of out
-        for_blocks(block, range(0, v.shape[0], _BLOCK), parallel=bool(np.all(np.diff(element) > 0)))
+    The residuals r = (s, b) (6, P) come from the slots (:func:`deformable.physics.kernels.point_residuals`) minus
+    their rest values; the model gives W, F = dW/dr and Hr = d2W/dr^2; the kernels carry them to the slots:
+    gradient ``sum_r q_r F_r J_r``, Hessian ``sum_rq q_r Hr_rq J_r J_q^T + sum_r q_r F_r Hess(r)``.
+
+    Parameters
+    ----------
+    model : EnergyModel
+    params : dict name -> array (2, 2, *pts)
+        The Material fields the model reads (``model.fields``) at the points.
+    q : array (6, *pts)
+        The quadrature weight of each residual at each point (zero for a residual these points do not carry,
+        FD's parts; the same weight for every residual of a group the model couples).
+    G0, B0 : arrays (2, 2, *pts)
+        Rest tensors from the same slots (zero residuals at rest).
+    slots : dict
+        Slot name -> position (:data:`FE_SLOTS` or :data:`FD_SLOTS`).
+
+    For "gauss-newton" and "definite" the residual Hessian of each point is projected onto its positive
+    semi-definite part first (so that ``J^T Hr J`` is; eq. (13)'s is diagonal and positive as it is).
+    """
+
+    def __init__(self, model, params: dict, q, G0, B0, slots: dict):
+        self.model, self.slots = model, dict(slots)
+        self.S = max(self.slots.values()) + 1
+        self.params = {k: np.asarray(v, float).reshape(2, 2, -1) for k, v in params.items()}
+        self.q = np.ascontiguousarray(np.asarray(q, float).reshape(6, -1))
+        G0, B0 = (np.asarray(a, float).reshape(2, 2, -1) for a in (G0, B0))
+        self.rest = np.stack([G0[0, 0], G0[1, 1], G0[0, 1], B0[0, 0], B0[1, 1], B0[0, 1]])
+        self.P = self.q.shape[1]
+        # the groups the model couples that these points carry, each with its one weight
+        self.groups = []
+        same = np.zeros((6, 6))
+        for g in model.groups():
+            w = self.q[list(g)]
+            if not np.any(w):
+                continue
+            if np.any(w != w[0]):
+                raise InputError(f"force model {model.name!r}: the residuals {[RESIDUAL_NAMES[k] for k in g]} it "
+                                 "couples are weighted differently at the same points")
+            self.groups.append(g)
+            same[np.ix_(g, g)] = 1.0
+        self._same = same[:, :, None]
+        self.bending = bool(np.any(self.q[3:]) and model.bends(self.params))
+        self._sl = np.array([slots[k] for k in ("d1", "d2", "t1", "t2")], np.int64)
+        self._bend = np.array([slots[k] for k in _BEND], np.int64)
+        self._whole = bool(np.all(self.q == self.q[:1]))  # every residual carried, with one weight
+
+    def _residuals(self, v, sl=slice(None)):
+        R = kernels.point_residuals(np.ascontiguousarray(v, float), self._sl, self._bend, self.bending)
+        r = R - self.rest[:, sl]
+        if not self.bending:
+            r[3:] = 0.0
+        return r
+
+    def _params(self, sl):
+        return {k: a[:, :, sl] for k, a in self.params.items()}
+
+    # -- energy -----------------------------------------------------------------------
+    def energy(self, v: np.ndarray) -> Energy:
+        """The density summed over the points with the weights q: (stretching, bending) (J); stretching is
+        W(s, 0), bending the rest (eq. (13): its eta and xi terms)."""
+        r, p = self._residuals(v), self.params
+        parts = [(None, self.q[0])] if self._whole else [(g, self.q[g[0]]) for g in self.groups]
+        total = stretching = 0.0
+        zero = np.zeros((3, self.P))
+        for g, w in parts:
+            rg = r if g is None else r * np.isin(np.arange(6), g)[:, None]
+            W = self.model.density(rg[:3], rg[3:], p)
+            Ws = self.model.density(rg[:3], zero, p) if self.bending else W
+            total += float(w @ W)
+            stretching += float(w @ Ws)
+        return Energy(stretching, total - stretching)
+
+    # -- derivatives ------------------------------------------------------------------
+    def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
+        """dW/d(slots), (P, S, 3) (J per unit of the slot vectors)."""
+        r = self._residuals(v, sl)
+        F = np.ascontiguousarray(self.q[:, sl] * self.model.gradient(r[:3], r[3:], self._params(sl)))
+        return kernels.point_gradients_general(np.ascontiguousarray(v, float), self._sl, self._bend, F, self.bending)
+
+    def _point_hessians(self, v, kind, sl):
+        if kind not in HESSIANS:
+            raise InputError(f"hessian kind must be one of {HESSIANS}, got {kind!r}")
+        r, p = self._residuals(v, sl), self._params(sl)
+        q = self.q[:, sl]
+        F = np.ascontiguousarray(q * self.model.gradient(r[:3], r[3:], p))
+        Hr = self.model.hessian(r[:3], r[3:], p) * q[:, None, :] * self._same
+        if kind in ("gauss-newton", "definite"):
+            Hr = np.moveaxis(kernels.positive_part(np.moveaxis(Hr, -1, 0)), 0, -1)
+        code = kernels.KINDS["newton" if kind == "projected" else kind]
+        H = kernels.point_hessians_general(np.ascontiguousarray(v, float), self._sl, self._bend, F,
+                                           np.ascontiguousarray(Hr), code, self.bending)
+        return kernels.positive_part(H) if kind == "projected" else H
+
+    def hessian(self, v: np.ndarray, kind: str = "newton", sl=slice(None)) -> np.ndarray:
+        """The Hessian of W in the slots at the points ``sl``, (P, S, 3, S, 3); ``kind`` one of :data:`HESSIANS`."""
+        P, S = v.shape[0], self.S
+        return self._point_hessians(v, kind, sl).reshape(P, S, 3, S, 3)

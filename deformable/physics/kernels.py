@@ -79,29 +79,27 @@ def _skew_into(a, M, r0, c0, sign):
 
 
 @njit(cache=True)
-def _jacobian(v, sl, bend, c, r0, bending, J, F, sc):
-    """Residual forces F (6,) and the Jacobian J (6, 3S) of the residuals in the slots at one point.
+def _jacobian(v, sl, bend, bending, J, R, sc):
+    """Residual values R (6,) (G11, G22, G12, B11, B22, B12) and their Jacobian J (6, 3S) in the slots at one point.
 
-    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0].
+    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0]. Without bending only the
+    three metric residuals are formed (R[3:] = 0).
     """
     S = v.shape[0]
     for r in range(6):
         for i in range(3 * S):
             J[r, i] = 0.0
     i1, i2 = sl[0], sl[1]
-    G11 = v[i1, 0] * v[i1, 0] + v[i1, 1] * v[i1, 1] + v[i1, 2] * v[i1, 2]
-    G22 = v[i2, 0] * v[i2, 0] + v[i2, 1] * v[i2, 1] + v[i2, 2] * v[i2, 2]
-    G12 = v[i1, 0] * v[i2, 0] + v[i1, 1] * v[i2, 1] + v[i1, 2] * v[i2, 2]
-    F[0] = 2.0 * c[0] * G11 - r0[0]
-    F[1] = 2.0 * c[1] * G22 - r0[1]
-    F[2] = 2.0 * c[2] * G12 - r0[2]
+    R[0] = v[i1, 0] * v[i1, 0] + v[i1, 1] * v[i1, 1] + v[i1, 2] * v[i1, 2]
+    R[1] = v[i2, 0] * v[i2, 0] + v[i2, 1] * v[i2, 1] + v[i2, 2] * v[i2, 2]
+    R[2] = v[i1, 0] * v[i2, 0] + v[i1, 1] * v[i2, 1] + v[i1, 2] * v[i2, 2]
     for a in range(3):
         J[0, 3 * i1 + a] += 2.0 * v[i1, a]
         J[1, 3 * i2 + a] += 2.0 * v[i2, a]
         J[2, 3 * i1 + a] += v[i2, a]
         J[2, 3 * i2 + a] += v[i1, a]
     if not bending:
-        F[3] = F[4] = F[5] = 0.0
+        R[3] = R[4] = R[5] = 0.0
         return 3, 1.0
     it1, it2 = sl[2], sl[3]
     n, w, t = sc[0], sc[1], sc[2]
@@ -112,7 +110,7 @@ def _jacobian(v, sl, bend, c, r0, bending, J, F, sc):
     for k in range(3):
         ik = bend[k]
         Bk = n[0] * v[ik, 0] + n[1] * v[ik, 1] + n[2] * v[ik, 2]
-        F[3 + k] = 2.0 * c[3 + k] * Bk - r0[3 + k]
+        R[3 + k] = Bk
         for a in range(3):
             w[a] = (v[ik, a] - Bk * n[a]) / area
         _cross(v[it2], w, t)
@@ -126,36 +124,48 @@ def _jacobian(v, sl, bend, c, r0, bending, J, F, sc):
 
 
 @njit(cache=True)
-def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q):
-    """The Hessian of one point into H (3S, 3S), index 3 slot + coordinate; the rest are scratch arrays."""
-    S = v.shape[0]
-    n3 = 3 * S
-    for i in range(n3):
-        for j in range(n3):
+def _eq13_forces(R, c, r0, nres, F):
+    """F = dW/d(residuals) of eq. (13) at one point: 2 c R - r0 (the rest terms r0 = 2 c R_rest); 0 unformed."""
+    for k in range(6):
+        F[k] = 2.0 * c[k] * R[k] - r0[k] if k < nres else 0.0
+
+
+@njit(cache=True)
+def _active(J, r, S, act):
+    """The slots that residual r touches, into act; their count."""
+    na = 0
+    for s in range(S):
+        if J[r, 3 * s] != 0.0 or J[r, 3 * s + 1] != 0.0 or J[r, 3 * s + 2] != 0.0:
+            act[na] = s
+            na += 1
+    return na
+
+
+@njit(cache=True)
+def _outer_into(H, x0, J, r, q, act, na, actq, nq):
+    """H[slots of r, slots of q] += x0 J_r J_q^T over the slots each touches."""
+    for p in range(na):
+        for u in range(nq):
+            sp, sq = act[p], actq[u]
+            for a in range(3):
+                x = x0 * J[r, 3 * sp + a]
+                for b in range(3):
+                    H[3 * sp + a, 3 * sq + b] += x * J[q, 3 * sq + b]
+
+
+@njit(cache=True)
+def _clear(H):
+    for i in range(H.shape[0]):
+        for j in range(H.shape[1]):
             H[i, j] = 0.0
-    nres, area = _jacobian(v, sl, bend, c, r0, bending, J, F, sc)
+
+
+@njit(cache=True)
+def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt, Q):
+    """Add the residuals' own second derivatives, weighted by the forces F, to H (3S, 3S): the membrane part
+    ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite") and, with bending and
+    not "definite", the second derivative of ``V . n``, ``V = sum_k F_bk v_k`` (module docstring)."""
     i1, i2, it1, it2 = sl[0], sl[1], sl[2], sl[3]
-    n = sc[0]
-    # Gauss-Newton: sum_r 2 c_r J_r J_r^T over the slots each residual touches
-    for r in range(nres):
-        cr = 2.0 * c[r]
-        if cr == 0.0:
-            continue
-        na = 0
-        for s in range(S):
-            if J[r, 3 * s] != 0.0 or J[r, 3 * s + 1] != 0.0 or J[r, 3 * s + 2] != 0.0:
-                act[na] = s
-                na += 1
-        for p in range(na):
-            for q in range(na):
-                sp, sq = act[p], act[q]
-                for a in range(3):
-                    x = cr * J[r, 3 * sp + a]
-                    for b in range(3):
-                        H[3 * sp + a, 3 * sq + b] += x * J[r, 3 * sq + b]
-    if kind == 1:
-        return
-    # membrane: [[2 F11, F12], [F12, 2 F22]] (x I3) on (d1, d2)
     m11, m12, m22 = 2.0 * F[0], F[2], 2.0 * F[1]
     if kind == 2:
         m11, m12, m22 = _positive_part_2x2(m11, m12, m22)
@@ -166,7 +176,6 @@ def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt,
         H[3 * i2 + a, 3 * i2 + a] += m22
     if kind == 2 or not bending:
         return
-    # bending: the second derivative of V . n, V = sum_k F_bk v_k
     V, W = sc[3], sc[4]
     for a in range(3):
         V[a] = F[3] * v[bend[0], a] + F[4] * v[bend[1], a] + F[5] * v[bend[2], a]
@@ -220,30 +229,104 @@ def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt,
 
 
 @njit(cache=True)
+def _hessian_into(v, sl, bend, F, Hr, kind, bending, nres, area, J, H, act, sc, Cm, Hf, T6, Htt, Q, actq):
+    """H (3S, 3S) = Gauss-Newton ``sum_rq Hr_rq J_r J_q^T`` over the slots each residual touches, plus (unless
+    "gauss-newton") the residuals' own second derivatives weighted by the forces F (:func:`_second_order`)."""
+    S = v.shape[0]
+    _clear(H)
+    for r in range(nres):
+        na = -1
+        for q in range(nres):
+            h = Hr[r, q]
+            if h == 0.0:
+                continue
+            if na < 0:
+                na = _active(J, r, S, act)
+            nq = _active(J, q, S, actq)
+            _outer_into(H, h, J, r, q, act, na, actq, nq)
+    if kind == 1:
+        return
+    _second_order(v, sl, bend, F, kind, bending, area, sc[0], H, sc, Cm, Hf, T6, Htt, Q)
+
+
+@njit(cache=True)
+def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q, R, actq, Hr):
+    """The Hessian of eq. (13)'s integrand at one point into H (3S, 3S), index 3 slot + coordinate; the rest are
+    scratch arrays. Its residual Hessian is diagonal, 2 c."""
+    nres, area = _jacobian(v, sl, bend, bending, J, R, sc)
+    _eq13_forces(R, c, r0, nres, F)
+    for i in range(6):
+        for k in range(6):
+            Hr[i, k] = 2.0 * c[i] if i == k else 0.0
+    _hessian_into(v, sl, bend, F, Hr, kind, bending, nres, area, J, H, act, sc, Cm, Hf, T6, Htt, Q, actq)
+
+
+@njit(cache=True)
+def _point_general(v, sl, bend, Fp, Hr, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q, R, actq):
+    """The Hessian of a general energy density at one point into H (3S, 3S): the forces Fp (6,) and the
+    residual Hessian Hr (6, 6) given (:class:`deformable.physics.integrand.DensityIntegrand`)."""
+    nres, area = _jacobian(v, sl, bend, bending, J, R, sc)
+    for k in range(6):
+        F[k] = Fp[k] if k < nres else 0.0
+    _hessian_into(v, sl, bend, F, Hr, kind, bending, nres, area, J, H, act, sc, Cm, Hf, T6, Htt, Q, actq)
+
+
+@njit(cache=True)
 def _scratch(S):
     return (np.zeros((6, 3 * S)), np.zeros((3 * S, 3 * S)), np.zeros(6), np.zeros(S, np.int64), np.zeros((5, 3)),
-            np.zeros((3, 6)), np.zeros((3, 3)), np.zeros((3, 6)), np.zeros((6, 6)), np.zeros((3, 6)))
+            np.zeros((3, 6)), np.zeros((3, 3)), np.zeros((3, 6)), np.zeros((6, 6)), np.zeros((3, 6)), np.zeros(6),
+            np.zeros(S, np.int64))
+
+
+@njit(cache=True)
+def _gradient_into(J, F, nres, S, g):
+    for r in range(nres):
+        for s in range(S):
+            for a in range(3):
+                g[s, a] += F[r] * J[r, 3 * s + a]
 
 
 @njit(cache=True)
 def point_gradients(v, sl, bend, c, r0, bending):
-    """dW/d(slots) at every point, (P, S, 3): sum_r F_r J_r (arguments as :func:`point_hessians`)."""
+    """dW/d(slots) of eq. (13) at every point, (P, S, 3): sum_r F_r J_r (arguments as :func:`point_hessians`)."""
     P, S = v.shape[0], v.shape[1]
-    J, F, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros((5, 3))
+    J, F, R, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros(6), np.zeros((5, 3))
     out = np.zeros((P, S, 3))
     for p in range(P):
-        nres, _ = _jacobian(v[p], sl, bend, c[:, p], r0[:, p], bending, J, F, sc)
-        g = out[p]
-        for r in range(nres):
-            for s in range(S):
-                for a in range(3):
-                    g[s, a] += F[r] * J[r, 3 * s + a]
+        nres, _ = _jacobian(v[p], sl, bend, bending, J, R, sc)
+        _eq13_forces(R, c[:, p], r0[:, p], nres, F)
+        _gradient_into(J, F, nres, S, out[p])
+    return out
+
+
+@njit(cache=True)
+def point_gradients_general(v, sl, bend, F, bending):
+    """dW/d(slots) at every point, (P, S, 3), from the forces F (6, P) = dW/d(residuals) of a general density."""
+    P, S = v.shape[0], v.shape[1]
+    J, R, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros((5, 3))
+    out = np.zeros((P, S, 3))
+    for p in range(P):
+        nres, _ = _jacobian(v[p], sl, bend, bending, J, R, sc)
+        _gradient_into(J, F[:, p], nres, S, out[p])
+    return out
+
+
+@njit(cache=True)
+def point_residuals(v, sl, bend, bending):
+    """The residual values (G11, G22, G12, B11, B22, B12) at every point, (6, P) (B zero without bending)."""
+    P, S = v.shape[0], v.shape[1]
+    J, R, sc = np.zeros((6, 3 * S)), np.zeros(6), np.zeros((5, 3))
+    out = np.zeros((6, P))
+    for p in range(P):
+        _jacobian(v[p], sl, bend, bending, J, R, sc)
+        for k in range(6):
+            out[k, p] = R[k]
     return out
 
 
 @njit(cache=True, nogil=True)
 def point_hessians(v, sl, bend, c, r0, kind, bending):
-    """The Hessian at every point, (P, 3S, 3S) (index 3 slot + coordinate).
+    """The Hessian of eq. (13)'s integrand at every point, (P, 3S, 3S) (index 3 slot + coordinate).
 
     Parameters
     ----------
@@ -254,10 +337,30 @@ def point_hessians(v, sl, bend, c, r0, kind, bending):
         projected by the caller, :func:`positive_part`); bending : bool (False: no normal is formed)
     """
     P, S = v.shape[0], v.shape[1]
-    J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q = _scratch(S)
+    J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q, R, actq = _scratch(S)
     out = np.empty((P, 3 * S, 3 * S))
+    Hr = np.zeros((6, 6))
     for p in range(P):
-        _point(v[p], sl, bend, c[:, p], r0[:, p], kind, bending, J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q)
+        _point(v[p], sl, bend, c[:, p], r0[:, p], kind, bending, J, Hp, F, act, sc, Cm, Hf, T6, Htt, Q, R, actq, Hr)
+        out[p] = Hp
+    return out
+
+
+@njit(cache=True, nogil=True)
+def point_hessians_general(v, sl, bend, F, Hr, kind, bending):
+    """The Hessian of a general density at every point, (P, 3S, 3S): forces F (6, P) and residual Hessians
+    Hr (6, 6, P) given (for "gauss-newton" and "definite", Hr positive semi-definite); other arguments as
+    :func:`point_hessians`."""
+    P, S = v.shape[0], v.shape[1]
+    J, Hp, Fs, act, sc, Cm, Hf, T6, Htt, Q, R, actq = _scratch(S)
+    out = np.empty((P, 3 * S, 3 * S))
+    Hs = np.zeros((6, 6))
+    for p in range(P):
+        for i in range(6):
+            for j in range(6):
+                Hs[i, j] = Hr[i, j, p]
+        _point_general(v[p], sl, bend, F[:, p], Hs, kind, bending, J, Hp, Fs, act, sc, Cm, Hf, T6, Htt, Q, R,
+                       actq)
         out[p] = Hp
     return out
 

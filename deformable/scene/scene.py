@@ -1,14 +1,10 @@
-r"""A scene: sheet, material, forces, constraints and the named force model.
+r"""A scene: sheet, material, forces, constraints, obstacles and the force model.
 
-Force models (docs/design.md, "The continuous model"):
-
-- ``"tpbf87"``: the papers' force (14)-(15), ``e = sum_ij -d_i(alpha_ij d_j r)
-  + d_ij(beta_ij d_ij r)`` with ``alpha_ij = eta_ij (G_ij - G0_ij)`` and
-  ``beta_ij = xi_ij (B_ij - B0_ij)`` frozen at the current r (eq. (20): K(r)).
-  It is *not* the gradient of the energy (13).
-- ``"frozen"``: alpha_ij and beta_ij given directly as material parameters
-  (section 3.2); linear, the controlled-continuity spline.
-- ``"variational"``: the exact gradient of the discrete energy (13).
+The force model is a registered object (:mod:`deformable.physics.force_models`), given by its name or as
+an instance: ``"tpbf87"`` (the paper's force (14)-(15), not the gradient of the energy (13)),
+``"frozen"`` (alpha_ij and beta_ij given directly, section 3.2), ``"variational"`` (the exact gradient of
+eq. (13)), or any registered :class:`~deformable.physics.force_models.EnergyModel` (docs/design.md, "The
+continuous model").
 """
 
 from __future__ import annotations
@@ -25,29 +21,18 @@ from ..contact.settings import Contact
 from ..errors import InputError
 from ..geometry.compatibility import warn_if_incompatible
 from ..geometry.sheet import Sheet
+from ..physics.force_models import ForceModel
 from ..physics.forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wind
 from ..physics.material import Material
 from .constraints import Clamp, Pin, Slide
 
-__all__ = ["Scene", "FORCE_MODELS", "IllPosedScene"]
+__all__ = ["Scene", "IllPosedScene"]
 
-FORCE_MODELS = ("tpbf87", "frozen", "variational")
 log = logging.getLogger(__name__)
 
 
 class IllPosedScene(UserWarning):
     """The scene's settings leave deformations that cost no energy (shear or twist of the variational model)."""
-
-
-def _free_modes(material) -> list[str]:
-    """The energy-consistent model's deformations that a material leaves free: "shear" (eta_12 = 0), "twist" (xi_12 = 0)."""
-    free = []
-    for name, mode in (("eta", "shear"), ("xi", "twist")):
-        w = np.asarray(getattr(material, name), float)
-        w = w * np.eye(2) if w.ndim == 0 else w  # a scalar is eta_11 = eta_22, eta_12 = 0
-        if np.any(w[0, 0] != 0) and not np.any(w[0, 1]):
-            free.append(f"{mode} ({name}_12 = 0)")
-    return free
 
 
 def _tensor_override(name: str, value):
@@ -72,14 +57,14 @@ class Scene:
     material : Material
     forces : sequence of Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind
     constraints : sequence of Pin, Slide, Clamp
-    force_model : "tpbf87" | "frozen" | "variational"
-        The force of eq. (11). The default, "tpbf87", is the paper's force
-        (14)-(15) as written, so that a bare Scene is the paper's model; it is
-        not the gradient of the energy (13), has no linear bending stiffness
-        about a flat sheet and no stiffness in compression. For a physical
-        sheet choose "variational" (the exact gradient of eq. (13), stepped
-        implicitly) with full weight tensors, as the shipped scenes
-        (:mod:`deformable.scenes`), the command line and the README do.
+    force_model : str or ForceModel
+        The force of eq. (11): a registered name ("tpbf87", "frozen", "variational", or a user's energy
+        model's) or a ForceModel instance; kept as the instance. The default, "tpbf87", is the paper's force
+        (14)-(15) as written, so that a bare Scene is the paper's model; it is not the gradient of the
+        energy (13), has no linear bending stiffness about a flat sheet and no stiffness in compression.
+        For a physical sheet choose "variational" (the exact gradient of eq. (13), stepped implicitly) with
+        full weight tensors, as the shipped scenes (:mod:`deformable.scenes`), the command line and the
+        README do.
     rest_metric, rest_curvature : optional
         G0 and B0 overriding those of the rest shape: a number s (s I), a
         symmetric 2 x 2 tensor, or a callable (a1, a2) -> (..., 2, 2).
@@ -96,16 +81,16 @@ class Scene:
         When rest_metric / rest_curvature override the rest shape with a pair
         that is not the metric and curvature of any surface (eq. 10, section 3.2).
     IllPosedScene
-        When the variational model is given weights without eta_12 (or xi_12
-        with bending): shear (twist) then costs nothing, a compressed sheet
-        shears in its own plane and a static problem has no unique solution.
+        When the force model leaves deformations free at these weights (the variational model without
+        eta_12, or xi_12 with bending: shear (twist) then costs nothing, a compressed sheet shears in its own
+        plane and a static problem has no unique solution).
     """
 
     sheet: Sheet
     material: Material
     forces: tuple = ()
     constraints: tuple = ()
-    force_model: str = "tpbf87"
+    force_model: str | ForceModel = "tpbf87"
     rest_metric: object = None
     rest_curvature: object = None
     name: str = "scene"
@@ -118,10 +103,13 @@ class Scene:
             raise InputError(f"Scene.sheet must be a Sheet, got {self.sheet!r}")
         if not isinstance(self.material, Material):
             raise InputError(f"Scene.material must be a Material, got {self.material!r}")
-        if self.force_model not in FORCE_MODELS:
-            raise InputError(f"Scene.force_model must be one of {FORCE_MODELS}, got {self.force_model!r}")
-        if self.force_model == "frozen" and self.material.alpha is None and self.material.beta is None:
-            raise InputError("Scene.force_model 'frozen' needs Material.alpha and/or Material.beta")
+        try:
+            force_model = ForceModel.of(self.force_model)
+        except InputError:
+            raise InputError(f"Scene.force_model must be one of {', '.join(ForceModel.names())} or a ForceModel, "
+                             f"got {self.force_model!r}", field="Scene.force_model", value=self.force_model) from None
+        force_model.check(self.material)
+        object.__setattr__(self, "force_model", force_model)
         self.material.check(self.sheet.nodes)
         forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind),
                           "Gravity, BodyForce, EdgeLoad, PointLoad, Spring or Wind")
@@ -144,9 +132,9 @@ class Scene:
             object.__setattr__(self, "contact", Contact())
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
-        free = _free_modes(self.material) if self.force_model == "variational" else []
+        free = force_model.free_modes(self.material)
         if free:
-            warnings.warn(f"scene {self.name!r}: the energy-consistent model leaves {' and '.join(free)} free: "
+            warnings.warn(f"scene {self.name!r}: the {force_model.name} model leaves {' and '.join(free)} free: "
                           "those deformations cost no energy, a compressed sheet shears in its own plane and a "
                           "static problem has no unique solution; give full weight tensors, e.g. "
                           "eta = [[eta, eta], [eta, eta]] (and the same for xi), the isotropic sheet with Poisson "

@@ -3,7 +3,6 @@
 from .catalogue import (
     HORIZONTAL,
     SCENES,
-    VARIATIONAL_STIFFNESS,
     VERTICAL,
     CurtainConfig,
     DrapeConfig,
@@ -38,5 +37,4 @@ from .catalogue import (
 __all__ = ["SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig",
            "Plane", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor", "sphere", "drape", "FloorConfig",
            "SphereConfig", "DrapeConfig", "config", "build", "read_toml", "to_toml", "run_table", "equivalent_weights",
-           "fold_wavelength", "smooth_ramp", "FoldNoise", "hook_nodes", "VERTICAL", "HORIZONTAL",
-           "VARIATIONAL_STIFFNESS"]
+           "fold_wavelength", "smooth_ramp", "FoldNoise", "hook_nodes", "VERTICAL", "HORIZONTAL"]

@@ -146,10 +146,11 @@ from ..dynamics.stepper import DT_MIN
 from ..errors import InputError
 from ..geometry.sheet import Sheet
 from ..geometry.surfaces import Plane
+from ..physics.force_models import ForceModel
 from ..physics.forces import BodyForce, Gravity, Spring, Wind
 from ..physics.material import Material
 from ..scene.constraints import Pin, Slide
-from ..scene.scene import FORCE_MODELS, Scene
+from ..scene.scene import Scene
 
 __all__ = [
     "SCENES", "SceneSpec", "read_toml_text", "SceneConfig", "HangingConfig", "CurtainConfig", "FlagConfig", "Plane",
@@ -167,10 +168,6 @@ VERTICAL = Plane(e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 #: the horizontal x-y plane (the default rest shape)
 HORIZONTAL = Plane()
 
-#: linearised stiffness of the variational force against the paper's at the same weights (stretching, bending)
-VARIATIONAL_STIFFNESS = (4.0, 2.0)
-
-
 def equivalent_weights(eta: float, xi: float, source: str = "tpbf87", target: str = "variational"):
     """(eta, xi) under ``target`` with the linearised stiffness of (eta, xi) under ``source``.
 
@@ -179,13 +176,10 @@ def equivalent_weights(eta: float, xi: float, source: str = "tpbf87", target: st
     of the energy (13) has 4 eta (G = r . r is quadratic in r, and (G - G0)^2
     again) and 2 xi. So ``equivalent_weights(20, 1e-5)`` is (5, 5e-6): the
     variational weights of the same linear material. The frozen model counts
-    like tpbf87 (its alpha, beta are the paper's).
+    like tpbf87 (its alpha, beta are the paper's). Any registered force model
+    counts by its own :attr:`~deformable.physics.ForceModel.stiffness`.
     """
-    for name in (source, target):
-        if name not in FORCE_MODELS:
-            raise InputError(f"force model must be one of {FORCE_MODELS}, got {name!r}")
-    factor = {m: VARIATIONAL_STIFFNESS if m == "variational" else (1.0, 1.0) for m in FORCE_MODELS}
-    (se, sx), (te, tx) = factor[source], factor[target]
+    (se, sx), (te, tx) = ForceModel.lookup(source).stiffness, ForceModel.lookup(target).stiffness
     return eta * se / te, xi * sx / tx
 
 
@@ -211,7 +205,7 @@ def fold_wavelength(xi: float, mu: float, g: float, height: float, scale: float 
     the paper's force; mu and the forces are scaled together, so ``scale``
     divides D.
     """
-    D = xi * (VARIATIONAL_STIFFNESS[1] if force_model == "variational" else 1.0)
+    D = xi * ForceModel.lookup(force_model).stiffness[1]
     return (D * height / (scale * mu * g)) ** 0.25
 
 
@@ -292,7 +286,7 @@ class SceneConfig:
     t_end : float
         Default simulated time (s).
     force_model : str
-        "variational" (default) or another of :data:`deformable.FORCE_MODELS`.
+        "variational" (default) or another registered force model (:class:`deformable.ForceModel`).
     alpha, beta : float
         The "frozen" model's weights, given directly (section 3.2): alpha_11 =
         alpha_22 = alpha (N/m), beta_11 = beta_22 = beta and beta_12 = shear
@@ -354,8 +348,9 @@ class SceneConfig:
                 if value is not None:
                     object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
             elif f.name == "force_model":
-                if value not in FORCE_MODELS:
-                    raise InputError(f"scene field force_model must be one of {FORCE_MODELS}, got {value!r}")
+                if not isinstance(value, str) or value not in ForceModel.names():
+                    raise InputError(f"scene field force_model must be one of {', '.join(ForceModel.names())}, "
+                                     f"got {value!r}", field="force_model", value=value)
             elif f.name in ("size", "nodes", "rest_metric", "rest_curvature"):
                 kind = int if f.name == "nodes" else float
                 try:
@@ -400,13 +395,19 @@ class SceneConfig:
                 raise InputError(f"scene fields scale and {name}: scale * {name} = {self.scale!r} * "
                                  f"{getattr(self, name)!r} is not a finite number", field=name,
                                  value=getattr(self, name))
-        if self.force_model == "frozen" and not (self.alpha > 0 or self.beta > 0):
-            raise InputError("scene fields alpha and beta: the frozen force model needs alpha > 0 or beta > 0 (its "
-                             "weights, given directly; e.g. alpha=1 beta=1e-3)", field="alpha", value=self.alpha)
-        if self.force_model != "frozen" and (self.alpha or self.beta):
+        direct = self._weights_given()
+        if direct and not (self.alpha > 0 or self.beta > 0):
+            raise InputError(f"scene fields alpha and beta: the {self.force_model} force model needs alpha > 0 or "
+                             "beta > 0 (its weights, given directly; e.g. alpha=1 beta=1e-3)", field="alpha",
+                             value=self.alpha)
+        if not direct and (self.alpha or self.beta):
             raise InputError(f"scene fields alpha = {self.alpha!r}, beta = {self.beta!r} are the frozen model's "
                              f"weights; the {self.force_model} model takes eta and xi (set force_model = \"frozen\")",
                              field="alpha", value=self.alpha)
+
+    def _weights_given(self) -> bool:
+        """The force model takes its weights as alpha and beta, given directly (the frozen model, section 3.2)."""
+        return ForceModel.lookup(self.force_model).weights == ("alpha", "beta")
 
     def scene_kwargs(self) -> dict:
         """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
@@ -432,7 +433,7 @@ class SceneConfig:
             return np.array([[w, self.shear * w], [self.shear * w, w]])
 
         frozen = {}
-        if self.force_model == "frozen":  # alpha_12 = 0, beta_12 = shear beta (the field docs of SceneConfig)
+        if self._weights_given():  # alpha_12 = 0, beta_12 = shear beta (the field docs of SceneConfig)
             frozen = dict(alpha=np.diag([self.alpha, self.alpha]), beta=tensor(self.beta))
         return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=tensor(self.eta),
                         xi=tensor(self.xi), **frozen)

@@ -20,7 +20,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.potential import ContactPotential
-from ..physics.elasticity import require_energy_gradient
 
 __all__ = ["FlatEnergy", "flat", "unflat"]
 
@@ -62,7 +61,7 @@ class FlatEnergy:
     """
 
     def __init__(self, model):
-        require_energy_gradient(model.scene)
+        model.scene.force_model.require_energy()
         self.model, self.n = model, model.ndof
         I3 = sp.identity(3, format="csr")
         self.M = sp.kron(I3, model.mass(), format="csr")

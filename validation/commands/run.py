@@ -73,7 +73,7 @@ from deformable.io import CheckpointWriter, XDMFWriter, frame_time, load_checkpo
 from deformable.io.folder import RunFolder, fresh, write_text
 from deformable.io.render import FIELDS, render_series
 from deformable.limits import check_series
-from deformable.scene.scene import FORCE_MODELS
+from deformable.physics.force_models import ForceModel
 from validation.harness import drape
 from validation.harness.backends import BACKENDS, backend_dt, make_model
 
@@ -106,7 +106,7 @@ def configure(parser) -> None:
                         help="fd (finite differences) or fe (finite elements) (default: the scene file's [run] "
                         "backend, else fd)")
     parser.add_argument("--force-model", default=None, metavar="MODEL",
-                        help=f"{', '.join(FORCE_MODELS)} (default: the scene's, variational); frozen takes the "
+                        help=f"{', '.join(ForceModel.names())} (default: the scene's, variational); frozen takes the "
                         "scene keys alpha and beta")
     parser.add_argument("--scheme", default=None, choices=SCHEMES,
                         help="time-stepping scheme (default: the scene file's [run] scheme, else implicit-euler "
@@ -253,8 +253,8 @@ def prepare(args) -> Run:
     if dt is not None:
         cli["dt"] = dt
     if args.force_model is not None:
-        if args.force_model not in FORCE_MODELS:
-            raise _Error(f"unknown force model {args.force_model!r}; choose one of {', '.join(FORCE_MODELS)}",
+        if args.force_model not in ForceModel.names():
+            raise _Error(f"unknown force model {args.force_model!r}; choose one of {', '.join(ForceModel.names())}",
                          field="--force-model", value=args.force_model)
         cli["force_model"] = args.force_model
     for key in set(cli) & set(overrides):

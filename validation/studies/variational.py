@@ -118,7 +118,7 @@ def run_case(case: Case) -> dict:
     if case.kind == "scene":
         cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), xi=SCENE_XI, force_model=case.force_model)
         model = make_model(scenes.build(cfg), case.backend)
-        dt = case.dt if case.force_model == "variational" else min(cfg.dt, 0.5 * model.stable_step())
+        dt = min(cfg.dt, 0.5 * model.stable_step()) if model.scene.force_model.lags_alpha else case.dt
         stepper = dm.TimeStepper(model, dt=dt, newton=NEWTON, solver=SOLVER)
         stepper_log = logging.getLogger("deformable.dynamics.stepper")
         level = stepper_log.level

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from deformable.physics.elasticity import stretching_step
+from deformable.physics.force_models import stretching_step
 
 from .cases import RUNAWAY_G
 

@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from deformable.physics.elasticity import stretching_step
+from deformable.physics.force_models import stretching_step
 from validation.harness.backends import BACKENDS
 from validation.harness.study import Figure, Table
 

@@ -1,4 +1,4 @@
-"""The elastic law (deformable.physics.elasticity) shared by both backends.
+"""Force models (deformable.physics.force_models): the registry, what each answers, the elastic law of eq. (13)-(15).
 
 The stretching bound (:func:`stretching_step`) is checked where it is measured: a backend's
 ``stable_step()`` against its own matrices and against runs (tests/deformable/backends/test_contract.py).
@@ -10,15 +10,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from deformable.physics.elasticity import (
-    QuadraticEnergy,
-    alpha,
-    beta,
-    energy_density,
-    require_energy_gradient,
-    require_strength_matrix,
-    stretching_step,
-)
+from deformable.physics.force_models import QuadraticEnergy, alpha, beta, energy_density, stretching_step
 
 from ...conftest import flat_scene
 
@@ -61,8 +53,8 @@ def test_quadratic_energy_is_half_RKR_split_into_its_parts(rng):
 
 def test_force_models_are_told_what_they_lack():
     with pytest.raises(ValueError, match="tpbf87.*no energy gradient.*variational"):
-        require_energy_gradient(flat_scene(nodes=(3, 3)))
+        flat_scene(nodes=(3, 3)).force_model.require_energy()
     with pytest.raises(ValueError, match="no strength matrix.*implicit-euler"):
-        require_strength_matrix(flat_scene(nodes=(3, 3), force_model="variational"))
-    require_energy_gradient(flat_scene(nodes=(3, 3), force_model="variational"))
-    require_strength_matrix(flat_scene(nodes=(3, 3)))
+        flat_scene(nodes=(3, 3), force_model="variational").force_model.require_strength_matrix()
+    flat_scene(nodes=(3, 3), force_model="variational").force_model.require_energy()
+    flat_scene(nodes=(3, 3)).force_model.require_strength_matrix()
