@@ -86,8 +86,8 @@ class Registered:
         """The registered class called ``name``; InputError listing the known names for any other value."""
         found = cls._registry.get(name) if isinstance(name, str) else None
         if found is None or not issubclass(found, cls):
-            known = ", ".join(repr(n) for n in cls.names())
-            raise InputError(f"unknown {cls.family} {name!r}; known: {known}", field=cls.family, value=name)
+            raise InputError(f"unknown {cls.family} {name!r}; choose one of {', '.join(cls.names())}",
+                             field=cls.family, value=name)
         return found
 
     @classmethod

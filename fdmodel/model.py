@@ -54,7 +54,8 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.backends.contract import Sample, check_scene
+from deformable.backends.contract import Sample
+from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
 from deformable.physics.energy import Energy, kinetic_energy
@@ -115,7 +116,7 @@ class FDModel:
     """
 
     def __init__(self, scene: Scene, weighting: str | None = None):
-        check_scene(scene, "fd")  # a Scene whose grid fits in memory, before anything is allocated
+        check_scene(scene, self.descriptor)  # a Scene whose grid fits in memory, before anything is allocated
         fm = self.force_model = scene.force_model
         #: the force is the gradient of an energy density (eq. (13) or another): ghost-row clamps, bending halves
         self.density = isinstance(fm, EnergyModel)

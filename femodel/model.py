@@ -88,7 +88,8 @@ import skfem
 from skfem.quadrature import get_quadrature_line
 
 from deformable.algebra.elements import element_vectors
-from deformable.backends.contract import Sample, check_scene
+from deformable.backends.contract import Sample
+from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
 from deformable.geometry.tensors import frame
@@ -146,7 +147,7 @@ class FEModel:
     """
 
     def __init__(self, scene: Scene, element: str = "hermite"):
-        check_scene(scene, "fe")  # a Scene whose grid fits in memory, before anything is allocated
+        check_scene(scene, self.descriptor)  # a Scene whose grid fits in memory, before anything is allocated
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
         start = time.perf_counter()

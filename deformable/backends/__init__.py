@@ -1,10 +1,15 @@
-"""The backend contract: what a discretisation offers (:class:`Backend`, a protocol) and what it is checked
-against before it allocates anything.
+"""The backends: the contract every discretisation satisfies, and their registry by name.
 
-The backends themselves, ``fdmodel.FDModel`` and ``femodel.FEModel``, live outside the core and satisfy the
-protocol structurally.
+- :mod:`.contract`: what a discretisation offers (:class:`Backend`, a protocol) and what it gives back
+  (:class:`Sample`);
+- :mod:`.registry`: :class:`Discretisation`, the descriptor each backend package registers (its name, model
+  class, grid unit, memory per node, cost, stiffest membrane mode, contact points), and :func:`check_scene`.
+
+The backends themselves, ``fdmodel.FDModel`` and ``femodel.FEModel``, live outside the core, satisfy the
+protocol structurally, and register their descriptors when imported; the core names none of them.
 """
 
-from .contract import BYTES_PER_NODE, Backend, EnergyBackend, Sample, check_scene, memory_estimate
+from .contract import Backend, EnergyBackend, Sample
+from .registry import Discretisation, check_scene
 
-__all__ = ["Backend", "EnergyBackend", "Sample", "check_scene", "memory_estimate", "BYTES_PER_NODE"]
+__all__ = ["Backend", "EnergyBackend", "Sample", "Discretisation", "check_scene"]

@@ -25,14 +25,11 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError
-from ..limits import check_memory
 from ..physics.energy import Energy
-from ..physics.force_models import ForceModel
 from ..physics.loads import Loads
 from ..scene.scene import Scene
 
-__all__ = ["Backend", "EnergyBackend", "Sample", "check_scene", "memory_estimate", "BYTES_PER_NODE"]
+__all__ = ["Backend", "EnergyBackend", "Sample"]
 
 
 @dataclass(frozen=True)
@@ -122,24 +119,3 @@ class Backend(Protocol):
 #: the former name of the contract's energy part; every backend has it now
 EnergyBackend = Backend
 
-
-#: peak memory per node (bytes) of a model and its step, by (backend, "implicit" | "semi-implicit"); measured,
-#: rounded up (FD variational 49-60 kB, FD tpbf87 9-12 kB, FE variational 280-310 kB, FE tpbf87 45-55 kB)
-BYTES_PER_NODE = {("fd", "implicit"): 64e3, ("fd", "semi-implicit"): 16e3,
-                  ("fe", "implicit"): 340e3, ("fe", "semi-implicit"): 64e3}
-
-
-def memory_estimate(nodes, backend: str, force_model="variational") -> float:
-    """Bytes a model of ``nodes`` = (M, N) on ``backend`` and its time step need (an estimate)."""
-    kind = "implicit" if ForceModel.of(force_model).implicit else "semi-implicit"
-    M, N = nodes
-    return BYTES_PER_NODE[backend, kind] * float(M) * float(N)
-
-
-def check_scene(scene, backend: str) -> None:
-    """What a backend checks before it allocates anything: a Scene, whose grid fits in memory on ``backend``."""
-    if not isinstance(scene, Scene):
-        raise InputError(f"a {backend.upper()} model needs a Scene, got {scene!r}", field="scene", value=scene)
-    M, N = scene.sheet.nodes
-    check_memory(scene.sheet.nodes, memory_estimate((1, 1), backend, scene.force_model),
-                 f"a {M}x{N} grid on the {backend} backend ({scene.force_model} model)")

@@ -31,7 +31,7 @@ def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, d
     state : deformable.State (X, V and, when known, A (ndof, 3), t in s, step)
     X0 : (ndof, 3) the constraint reference of the run (its initial positions)
     scene : scene name; config : the resolved scene config as TOML text
-    backend : "fd" or "fe"; dt : time step (s); nodes : (M, N)
+    backend : the backend's registered name; dt : time step (s); nodes : (M, N)
 
     Raises WriteError naming the file when it cannot be written (the partial file is removed).
     """

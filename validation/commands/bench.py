@@ -66,7 +66,7 @@ from deformable.algebra.solvers import make_solver
 from deformable.dynamics import TimeStepper
 from deformable.errors import InputError
 from deformable.solve.potential import flat
-from validation.harness.backends import make_model
+from validation.harness.backends import descriptor, make_model
 from validation.harness.report import markdown_table
 
 __all__ = ["configure", "execute", "BenchRow", "ImplicitRow", "ContactRow", "bench_one", "bench_implicit",
@@ -299,13 +299,13 @@ def format_implicit(rows) -> str:
 def _config(scene: str, backend: str, n: int):
     """A shipped scene's config on n nodes (FD) or n elements (FE) a side: the unit of the implicit, scene and
     contact rows."""
-    nodes = n if backend == "fd" else n + 1
+    nodes = descriptor(backend).nodes(n)
     return scenes.config(scene, nodes=(nodes, nodes))
 
 
 def _grid(r) -> str:
     """A row's grid with its unit: nodes a side (FD) or elements a side (FE)."""
-    return f"{r.grid}{' nodes' if r.backend == 'fd' else ' el.'}"
+    return f"{r.grid}{' nodes' if descriptor(r.backend).grid == 'nodes' else ' el.'}"
 
 
 # -- scene rows --------------------------------------------------------------------------

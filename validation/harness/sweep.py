@@ -52,8 +52,9 @@ import numpy as np
 import deformable as dm
 from deformable import scenes
 from deformable.dynamics.trackers import DivergenceGuard, Tracker
+from deformable.errors import InputError
 
-from .backends import backend_dt, make_model
+from .backends import backend_dt, descriptor, make_model
 from .report import _csv, markdown_table
 from .runner import counted
 from .study import Table
@@ -144,11 +145,11 @@ class SweepCase:
 
     @property
     def cost(self) -> float:
-        """A rough cost (steps times nodes, FE counted 4 times) to start long cases first."""
+        """A rough cost (steps times nodes times the backend's cost per node, FE 4) to start long cases first."""
         f = dict(self.fields)
         try:
-            return f["t_end"] / f["dt"] * f["nodes"][0] * f["nodes"][1] * (4.0 if self.backend == "fe" else 1.0)
-        except (KeyError, TypeError, ZeroDivisionError, IndexError):
+            return f["t_end"] / f["dt"] * f["nodes"][0] * f["nodes"][1] * descriptor(self.backend).cost
+        except (KeyError, TypeError, ZeroDivisionError, IndexError, InputError):
             return 0.0
 
 
