@@ -35,14 +35,17 @@ from .dynamics import (
 )
 from .errors import (
     CheckpointError,
+    ConvergenceError,
     DeformableError,
+    IllPosedScene,
+    IncompatibleRestState,
     InputError,
     NumericalError,
     OutputFolderError,
     ResourceError,
     WriteError,
 )
-from .geometry.compatibility import IncompatibleRestState, check_compatibility, check_rest_state
+from .geometry.compatibility import check_compatibility, check_rest_state
 from .geometry.sheet import Sheet
 from .geometry.surfaces import Surface, as_surface
 from .geometry.tensors import curvature, gaussian_curvature, metric, normal
@@ -61,9 +64,8 @@ from .physics.force_models import EnergyModel, ForceModel, StrengthModel
 from .physics.forces import BodyForce, EdgeLoad, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .physics.material import Material
 from .scene.constraints import Clamp, Pin, Slide, select
-from .scene.scene import IllPosedScene, Scene
+from .scene.scene import Scene
 from .solve.equilibrium import equilibrium
-from .solve.newton import ConvergenceError
 
 __version__ = "0.1.0"
 

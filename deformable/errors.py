@@ -1,4 +1,4 @@
-r"""The project's exceptions: bad input, damaged or foreign files, numerical failure.
+r"""The project's exceptions and warnings, all of them: bad input, damaged or foreign files, numerical failure.
 
 One hierarchy, so that a caller can tell "you asked for something wrong" from
 "the numbers gave out" without parsing messages::
@@ -10,8 +10,15 @@ One hierarchy, so that a caller can tell "you asked for something wrong" from
     |   `-- ResourceError                  more memory, disk or steps than the machine or the caps allow
     |-- WriteError (an OSError)            a file system failure while writing (disk full, file-size limit)
     `-- NumericalError (a RuntimeError)    the numerics failed
-        |-- DivergenceError, StalledError  (:mod:`deformable.dynamics`; ``state``: the last good one)
-        `-- ConvergenceError               (:mod:`deformable.solve.newton`)
+        |-- DivergenceError, StalledError  a run left the finite numbers, or its step shrank to nothing
+        |                                  (``state``: the last good one)
+        |-- ConvergenceError               Newton's method did not converge (``history``, ``X``)
+        |-- StepRejected                   an implicit step's Newton solve fell short (it is retried shorter)
+        `-- SingularMatrix (also an ArithmeticError)   a factorisation met a zero or, if definite, a negative pivot
+
+Warnings: :class:`IllPosedScene` (deformations that cost no energy) and
+:class:`IncompatibleRestState` (rest tensors that fail the compatibility test
+of eq. (10)), both UserWarnings.
 
 Every message of an :class:`InputError` names the field and the value it
 refuses, so the command line prints it as it is, in one line (exit code 2).
@@ -23,7 +30,8 @@ with the last good state (:class:`deformable.TimeStepper`).
 from __future__ import annotations
 
 __all__ = ["DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
-           "NumericalError"]
+           "NumericalError", "DivergenceError", "StalledError", "ConvergenceError", "StepRejected", "SingularMatrix",
+           "IllPosedScene", "IncompatibleRestState"]
 
 
 class DeformableError(Exception):
@@ -64,3 +72,47 @@ class WriteError(DeformableError, OSError):
 
 class NumericalError(DeformableError, RuntimeError):
     """The numerics failed (divergence, a step that does not converge, a singular system)."""
+
+
+class DivergenceError(NumericalError):
+    """The run left the range of finite numbers or a tracker's bound; ``state`` is the last good one."""
+
+    def __init__(self, message: str, state):
+        super().__init__(message)
+        self.state = state
+
+
+class StalledError(NumericalError):
+    """An implicit step did not converge even at the smallest allowed dt; ``state`` is the last good one."""
+
+    def __init__(self, message: str, state):
+        super().__init__(message)
+        self.state = state
+
+
+class ConvergenceError(NumericalError):
+    """Newton's method did not converge; ``history`` holds the residual norms per iteration, ``X`` the last iterate."""
+
+    def __init__(self, message: str, history=None, X=None):
+        super().__init__(message)
+        self.history, self.X = history or [], X
+
+
+class StepRejected(NumericalError):
+    """Newton did not reach its tolerance in a step; ``report`` says how far it got (the step is not taken)."""
+
+    def __init__(self, message: str, report=None):
+        super().__init__(message)
+        self.report = report
+
+
+class SingularMatrix(NumericalError, ArithmeticError):
+    """The factorisation met a zero pivot (or, for a matrix declared definite, a non-positive one)."""
+
+
+class IllPosedScene(UserWarning):
+    """The scene's settings leave deformations that cost no energy (shear or twist of the variational model)."""
+
+
+class IncompatibleRestState(UserWarning):
+    """The rest tensors G0, B0 of a scene fail the compatibility test of eq. (10)."""

@@ -11,8 +11,8 @@ Imports only the ground floor.
 from .elements import SymmetricElements, element_vectors, scatter_upper
 from .patterns import BlockPattern, FixedPattern, canonical, coordinates, same_pattern
 from .reduced import ReducedSystem
-from .solvers import SOLVERS, SPLU_OPTIONS, Auto, Pardiso, SingularMatrix, SuperLU, available, make_solver
+from .solvers import SOLVERS, SPLU_OPTIONS, Auto, Pardiso, SuperLU, available, make_solver
 
 __all__ = ["FixedPattern", "BlockPattern", "canonical", "same_pattern", "coordinates", "SymmetricElements",
            "element_vectors", "scatter_upper", "ReducedSystem", "SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS",
-           "available", "SingularMatrix", "SPLU_OPTIONS"]
+           "available", "SPLU_OPTIONS"]

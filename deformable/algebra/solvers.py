@@ -61,10 +61,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..errors import InputError
+from ..errors import InputError, SingularMatrix
 from .patterns import same_pattern
 
-__all__ = ["SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS", "available", "SingularMatrix", "SPLU_OPTIONS"]
+__all__ = ["SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS", "available", "SPLU_OPTIONS"]
 
 # MKL's OpenMP threads spin for 200 ms after each parallel region by default, taking a core from the numpy
 # work between factorisations (measured: a Newton step of FD 64 x 64 nodes 1.5x slower on two cores). Set
@@ -78,10 +78,6 @@ SOLVERS = ("auto", "superlu", "pardiso")
 PARDISO_FROM = 20_000
 #: PARDISO's iparm[33] (reproducibility): the same bits on any number of MKL threads, those of this many
 PARDISO_CNR_THREADS = 4
-
-
-class SingularMatrix(ArithmeticError):
-    """The factorisation met a zero pivot (or, for a matrix declared definite, a non-positive one)."""
 
 
 class SuperLU:

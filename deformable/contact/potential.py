@@ -132,6 +132,7 @@ class ContactPotential:
         self.weight = self.kappa * self.points.area  # kappa A_p (N/m^3 m^2 = N/m)
         self._lagged: list[_Lagged] = []
         self._eps = None
+        self._hessian = None
 
     def _positions(self, x) -> np.ndarray:
         return self.points.W @ x.reshape(3, self.n).T
@@ -215,7 +216,13 @@ class ContactPotential:
                 K[on] += (w * barrier_derivative(d[on], self.dhat))[:, None, None] * hd[on]
         for points, H in self._friction(r, "hessian"):
             K[points] += H
-        return self.points.blocks(K)
+        self._hessian = self.points.blocks(K)
+        return self._hessian
+
+    def hessian_diagonal(self) -> np.ndarray:
+        """The diagonal of the Hessian :meth:`hessian` assembled last (3 ndof,) (N/m): what Newton's matrix holds of
+        the contact, for :meth:`propose` (:class:`deformable.solve.newton.DirectionFilter`)."""
+        return self._hessian.diagonal()
 
     def safe_start(self, x, dx) -> np.ndarray:
         """A point between x and x + dx (flat) that keeps every contact point outside every obstacle.
@@ -241,6 +248,11 @@ class ContactPotential:
         which a point would have closed ``margin`` of its gap, over all points and obstacles, capped at 1.
         """
         return float(np.min(self._point_steps(x, dx), initial=1.0))
+
+    def propose(self, x, dx, stiffness) -> np.ndarray:
+        """Newton's direction with the contact normals solved against the barrier (:meth:`relax`), the contact's
+        proposal as a :class:`deformable.solve.newton.DirectionFilter`."""
+        return self.relax(x, dx, stiffness)
 
     def relax(self, x, dx, stiffness) -> np.ndarray:
         """Newton's direction dx (flat) with the normal displacement of each active own contact point re-solved

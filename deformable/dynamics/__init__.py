@@ -9,12 +9,13 @@
   :mod:`.newmark`.
 """
 
-from .implicit import Implicit, StepRejected
+from ..errors import DivergenceError, StalledError, StepRejected
+from .implicit import Implicit
 from .implicit_euler import ImplicitEuler
 from .newmark import Newmark
 from .scheme import Scheme
 from .semi_implicit import SemiImplicit
-from .state import DivergenceError, RunResult, StalledError, State
+from .state import RunResult, State
 from .stepper import SCHEMES, TimeStepper
 from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Stop, Tracker
 

@@ -53,20 +53,13 @@ from typing import ClassVar
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from ..solve.newton import ConvergenceError, Newton, NewtonSettings
+from ..errors import ConvergenceError, DivergenceError, StepRejected
+from ..solve.newton import Newton, NewtonSettings
 from ..solve.potential import FlatEnergy, flat, unflat
 from .scheme import Scheme
-from .state import DivergenceError, State
+from .state import State
 
 __all__ = ["Implicit", "StepRejected"]
-
-
-class StepRejected(RuntimeError):
-    """Newton did not reach its tolerance in a step; ``report`` says how far it got (the step is not taken)."""
-
-    def __init__(self, message: str, report=None):
-        super().__init__(message)
-        self.report = report
 
 
 class Implicit(Scheme):

@@ -40,8 +40,9 @@ import numpy as np
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import SPLU_OPTIONS, make_solver
 from ..contact.repulsion import Repulsion
+from ..errors import DivergenceError
 from .scheme import Scheme
-from .state import DivergenceError, State
+from .state import State
 
 __all__ = ["SemiImplicit", "SPLU_OPTIONS"]
 

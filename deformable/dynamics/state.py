@@ -1,4 +1,4 @@
-r"""What a run produces: states, the outcome of a run, and the error of a diverging step."""
+r"""What a run produces: states and the outcome of a run (its errors are :mod:`deformable.errors`')."""
 
 from __future__ import annotations
 
@@ -6,9 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import NumericalError
-
-__all__ = ["State", "RunResult", "DivergenceError", "StalledError"]
+__all__ = ["State", "RunResult"]
 
 
 @dataclass(frozen=True)
@@ -25,22 +23,6 @@ class State:
     V: np.ndarray
     step: int = 0
     A: np.ndarray | None = None
-
-
-class DivergenceError(NumericalError):
-    """The run left the range of finite numbers or a tracker's bound; ``state`` is the last good one."""
-
-    def __init__(self, message: str, state: State):
-        super().__init__(message)
-        self.state = state
-
-
-class StalledError(NumericalError):
-    """An implicit step did not converge even at the smallest allowed dt; ``state`` is the last good one."""
-
-    def __init__(self, message: str, state: State):
-        super().__init__(message)
-        self.state = state
 
 
 @dataclass

@@ -52,14 +52,13 @@ import numpy as np
 
 from ..algebra.solvers import one_blas_thread
 from ..checks import count, real
-from ..errors import InputError, ResourceError
+from ..errors import DivergenceError, InputError, ResourceError, StalledError, StepRejected
 from ..physics.force_models import stretching_step
-from .implicit import StepRejected
 from .implicit_euler import ImplicitEuler
 from .newmark import Newmark
 from .scheme import Scheme
 from .semi_implicit import SemiImplicit
-from .state import DivergenceError, RunResult, StalledError, State
+from .state import RunResult, State
 from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
 
 __all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down", "DT_MIN", "MAX_STEPS"]

@@ -46,18 +46,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import IncompatibleRestState, InputError
 from . import tensors
 from .surfaces import as_surface
 
 __all__ = ["Compatibility", "Comparison", "check_compatibility", "brioschi", "christoffel", "third_derivatives",
-           "rest_tensors", "check_rest_state", "warn_if_incompatible", "IncompatibleRestState"]
+           "rest_tensors", "check_rest_state", "warn_if_incompatible"]
 
 log = logging.getLogger(__name__)
-
-
-class IncompatibleRestState(UserWarning):
-    """The rest tensors G0, B0 of a scene fail the compatibility test of eq. (10)."""
 
 
 def _d(f: np.ndarray, h: tuple[float, float]) -> np.ndarray:

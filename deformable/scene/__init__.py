@@ -6,7 +6,7 @@ The catalogue of shipped scenes and scene files is :mod:`deformable.scenes`.
 """
 
 from .constraints import AXES, CORNERS, EDGES, Clamp, HeldDofs, Pin, Slide, edges_named, hold, select
-from .scene import IllPosedScene, Scene
+from .scene import Scene
 
-__all__ = ["Scene", "IllPosedScene", "Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES",
+__all__ = ["Scene", "Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES",
            "HeldDofs", "hold", "edges_named"]

@@ -18,7 +18,7 @@ import numpy as np
 from ..checks import sequence
 from ..contact.obstacles import Obstacle
 from ..contact.settings import Contact
-from ..errors import InputError
+from ..errors import IllPosedScene, InputError
 from ..geometry.compatibility import warn_if_incompatible
 from ..geometry.sheet import Sheet
 from ..physics.force_models import ForceModel
@@ -26,13 +26,9 @@ from ..physics.forces import BodyForce, EdgeLoad, Gravity, PointLoad, Spring, Wi
 from ..physics.material import Material
 from .constraints import Clamp, Pin, Slide
 
-__all__ = ["Scene", "IllPosedScene"]
+__all__ = ["Scene"]
 
 log = logging.getLogger(__name__)
-
-
-class IllPosedScene(UserWarning):
-    """The scene's settings leave deformations that cost no energy (shear or twist of the variational model)."""
 
 
 def _tensor_override(name: str, value):

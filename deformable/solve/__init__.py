@@ -1,13 +1,16 @@
 """Newton's method and what it solves.
 
 - :mod:`.potential`: a model's potential over flat coordinate-blocked vectors (elastic energy, springs, contact);
-- :mod:`.newton`: Newton's method on it, with a definite fallback and factorisation reuse;
+- :mod:`.newton`: Newton's method on it, with a definite fallback and factorisation reuse, and the protocol of
+  the direction filters a potential's terms supply (contact);
+- :mod:`.search`: the line searches, registered strategies beside the loop (watchdog, Armijo);
 - :mod:`.equilibrium`: static equilibrium, ``grad E = F`` under load continuation.
 """
 
 from .equilibrium import equilibrium
-from .newton import WATCHDOG, ConvergenceError, Newton, NewtonReport, NewtonSettings
+from .newton import DirectionFilter, Newton, NewtonReport, NewtonSettings
 from .potential import FlatEnergy, flat, unflat
+from .search import WATCHDOG, Armijo, Candidate, LineSearch, Watchdog
 
-__all__ = ["FlatEnergy", "flat", "unflat", "ConvergenceError", "NewtonReport", "NewtonSettings", "Newton", "WATCHDOG",
-           "equilibrium"]
+__all__ = ["FlatEnergy", "flat", "unflat", "Newton", "NewtonReport", "NewtonSettings", "DirectionFilter",
+           "LineSearch", "Watchdog", "Armijo", "Candidate", "WATCHDOG", "equilibrium"]

@@ -13,8 +13,8 @@ import dataclasses
 
 import numpy as np
 
-from ..errors import InputError
-from .newton import ConvergenceError, Newton
+from ..errors import ConvergenceError, InputError
+from .newton import Newton
 from .potential import FlatEnergy, flat, unflat
 
 __all__ = ["equilibrium"]

@@ -9,8 +9,9 @@ whose elastic part E is the model's energy (the exact gradient of eq. (13)
 for the "variational" model, the quadratic energy of the frozen one), and
 whose Newton matrix is ``c_M M + c_C C + Hess E`` (implicit Euler: 1/dt^2,
 1/dt; Newmark: 4/dt^2, 2/dt; statics: 0, 0). This module holds what they
-share: the model's energy over flat coordinate-blocked vectors
-(:class:`FlatEnergy`) and :class:`Newton`:
+share, over the potential of :class:`deformable.solve.potential.FlatEnergy`:
+:class:`Newton`'s loop, which computes directions and leaves the step to a
+line search (:mod:`deformable.solve.search`, a registered strategy):
 
 - the Newton matrix lives on the Hessian's fixed pattern, reduced to the free
   degrees of freedom by precomputed gathers
@@ -36,70 +37,69 @@ share: the model's energy over flat coordinate-blocked vectors
   Reusing the last time step's factorisation for a nonlinear model was
   measured and dropped: on the curtain (FD 32 x 32) its first chord step
   rarely contracts tenfold, and iterations per step rose from 3.4 to 4.4;
-- the search is a watchdog (Chamberlain, Powell, Lemarechal and Pedersen
-  1982, "The watchdog technique for forcing convergence in algorithms for
-  constrained optimization"): full Newton steps are taken even when Phi
-  grows, for at most :data:`WATCHDOG` steps in a row; if none of them brings
-  a sufficient (Armijo) decrease against the last good point, the search goes
-  back to that point and backtracks along its direction. Phi is evaluated
-  only to weigh a step: a full step whose residual meets the tolerance ends
-  the solve without it (measured on the curtain, FD 24 x 24 nodes, 40
-  steps: 1.05 evaluations of Phi a step against 2.5, the same iterates).
-  Newton's method keeps its quadratic convergence through the nonconvex
-  stretches of elastica-like problems (measured: 16-19 iterations for a
-  cantilever bent to P L^2/EI = 4 from flat), where a backtracking search
-  under a bound on the step took 65-70.
+- the step along a direction is a line search's: by default the watchdog
+  of :class:`deformable.solve.search.Watchdog` (full Newton steps, watched
+  for a sufficient decrease, with a return to the last good point), or
+  plain Armijo backtracking (``NewtonSettings(search="armijo")``); the
+  Armijo constant is a setting (``armijo``).
 
 The potential's elastic part may carry the scene's springs
 (:class:`deformable.physics.loads.Loads`: an energy with its Hessian), evaluated at
 the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
 implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
 
-Contact (:mod:`deformable.contact`): with obstacles in the scene the
-potential also carries the barrier and the lagged friction
-(:class:`deformable.contact.ContactPotential`), and every Newton direction is
-clipped to the largest safe step before the search sees it
-(:meth:`FlatEnergy.max_step`: ``margin`` of the step at which a contact point
-would reach an obstacle). The watchdog's full steps and its backtracking
-from the last good point both move along clipped directions, so no iterate,
-tried or taken, carries a contact point across an obstacle (Li et al. 2020,
-"Incremental Potential Contact", section 4), and the Armijo test compares
-against the slope of the clipped step. In a time step (a Newton matrix with
-inertia) the direction's contact normals are first solved against the
-barrier itself (:meth:`deformable.contact.ContactPotential.relax`, a
-nonlinear elimination); that direction is kept when its step decreases Phi
-from the current iterate (Armijo), else the iteration takes Newton's own
-clipped step, at the cost of a second gradient. Equilibrium has no inertia to
-bound the 1-D models, and takes Newton's clipped direction.
+Direction filters. A term of the potential may change and bound Newton's
+direction before the search sees it (:class:`DirectionFilter`; the contact
+wing's :class:`deformable.contact.potential.ContactPotential` is one, and
+the loop imports no contact): every direction is clipped to the filter's
+largest safe step (``max_step``), so no iterate, tried or taken, carries a
+contact point across an obstacle (Li et al. 2020, "Incremental Potential
+Contact", section 4), and the Armijo test compares against the slope of the
+clipped step. In a time step (a Newton matrix with inertia) the filter may
+first propose another direction (``propose``: the contact normals solved
+against the barrier, a nonlinear elimination); the search tries it first and
+falls back to Newton's own clipped step when it fails to decrease Phi from
+the current iterate (Armijo), at the cost of a second gradient. Equilibrium
+has no inertia to bound the filter's 1-D models, and takes Newton's clipped
+direction.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..algebra.reduced import ReducedSystem
-from ..algebra.solvers import SingularMatrix, make_solver, one_blas_thread
-from ..errors import InputError, NumericalError
+from ..algebra.solvers import make_solver, one_blas_thread
+from ..errors import ConvergenceError, InputError, SingularMatrix
 from .potential import FlatEnergy
+from .search import Candidate, LineSearch
 
-__all__ = ["ConvergenceError", "NewtonReport", "NewtonSettings", "Newton", "WATCHDOG"]
+__all__ = ["NewtonReport", "NewtonSettings", "Newton", "DirectionFilter"]
 
-#: full Newton steps taken in a row without a sufficient decrease of the potential before the watchdog steps back
-WATCHDOG = 6
 #: a reused factorisation is kept while each iteration with it reduces the residual at least this much (ratio)
 CONTRACTION = 0.01
 
 
-class ConvergenceError(NumericalError):
-    """Newton's method did not converge; ``history`` holds the residual norms per iteration."""
+class DirectionFilter(Protocol):
+    """What a term of the potential may do to Newton's direction before the line search sees it (module docstring).
 
-    def __init__(self, message: str, history=None, X=None):
-        super().__init__(message)
-        self.history, self.X = history or [], X
+    Directions are flat (3 ndof,), zero on the held degrees of freedom.
+    """
+
+    def propose(self, x: np.ndarray, dx: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
+        """Another direction to try first, or ``dx`` itself; ``stiffness``: the Newton matrix's diagonal without
+        the filter's own Hessian (N/m, 0 on held degrees of freedom). Called in time steps only."""
+
+    def max_step(self, x: np.ndarray, dx: np.ndarray) -> float:
+        """The largest fraction in (0, 1] of ``dx`` that x may move along."""
+
+    def hessian_diagonal(self) -> np.ndarray:
+        """The diagonal (3 ndof,) of the filter's own Hessian, as last assembled into the Newton matrix."""
 
 
 @dataclass
@@ -142,6 +142,11 @@ class NewtonSettings:
         "auto", "superlu" or "pardiso" (:mod:`deformable.algebra.solvers`).
     reuse : bool
         Keep a factorisation while it contracts (module docstring).
+    search : str
+        The line search, a registered :class:`deformable.solve.search.LineSearch`: "watchdog" (default) or
+        "armijo".
+    armijo : float
+        The sufficient-decrease constant c of the line search's Armijo test, in (0, 1/2).
     """
 
     rtol: float = 1e-3
@@ -150,6 +155,8 @@ class NewtonSettings:
     hessian: str = "auto"
     solver: str = "auto"
     reuse: bool = True
+    search: str = "watchdog"
+    armijo: float = 1e-4
 
     def __post_init__(self):
         from ..algebra.solvers import SOLVERS
@@ -165,6 +172,12 @@ class NewtonSettings:
             raise InputError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
         if self.solver not in SOLVERS:
             raise InputError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
+        if not isinstance(self.search, str) or self.search not in LineSearch.names():
+            raise InputError(f"newton search must be one of {', '.join(LineSearch.names())}, got {self.search!r}",
+                             field="newton.search", value=self.search)
+        c = self.armijo
+        if isinstance(c, bool) or not isinstance(c, (int, float)) or not 0 < c < 0.5:
+            raise InputError(f"newton armijo must lie in (0, 1/2), got {c!r}", field="newton.armijo", value=c)
 
     @classmethod
     def of(cls, value) -> NewtonSettings:
@@ -189,6 +202,7 @@ class Newton:
     Parameters
     ----------
     problem : FlatEnergy
+        The potential; its ``filter`` (None without one) changes and clips the directions.
     settings : NewtonSettings or dict, optional
 
     One object serves a whole run: it keeps the Newton matrix's pattern, the
@@ -198,13 +212,14 @@ class Newton:
     def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None):
         self.problem = problem
         self.settings = NewtonSettings.of(settings)
+        self.search = LineSearch.lookup(self.settings.search)
         definite = self.settings.hessian in ("auto", "definite", "gauss-newton", "projected")
         self.solver = make_solver(self.settings.solver, definite=definite)
         self._system = None
         self._factored = None  # (c_M, c_C) of the factorisation at hand, or None
         self._floor = 0.0
         self._damping = None  # an extra damping matrix of the current solve (already times c_C)
-        self._stiffness = None  # with contact: the Newton matrix's diagonal without the contact's Hessian (3 ndof,)
+        self._stiffness = None  # with a filter: the Newton matrix's diagonal without the filter's Hessian (3 ndof,)
 
     def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
         """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
@@ -224,10 +239,9 @@ class Newton:
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
         A = self._system.free_block(H, *extra)
-        if p.contact is not None:  # the diagonal without the contact's Hessian (the last extra matrix but damping)
-            contact = extra[len(extra) - 1 - (self._damping is not None)]
+        if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
             self._stiffness = np.zeros(3 * p.n)
-            self._stiffness[p.free] = A.diagonal() - contact.diagonal()[p.free]
+            self._stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]
         report.seconds["hessian"] += time.perf_counter() - t0
         # round-off floor: internal forces are sums of terms of size |diag H| |x|
         self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
@@ -304,9 +318,7 @@ class Newton:
         if r0 <= target:
             report.converged = True
             return x, report
-        ref = None  # the watchdog's reference, [x, phi or None, direction, slope]: the last sufficient decrease
-        fx = None  # phi at x, when known
-        relaxed = WATCHDOG
+        search = self.search(phi, grad, free, s.armijo, label)
         for it in range(1, s.max_iter + 1):
             # refactorise unless the factorisation at hand (also one from an earlier solve) keeps contracting
             slow = len(report.residuals) >= 2 and report.residuals[-1] > CONTRACTION * report.residuals[-2]
@@ -322,59 +334,12 @@ class Newton:
             if not newton:  # no descent (a stale factorisation): steepest descent, scaled like the step
                 d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
                 slope = float(g @ d)
-            plain = None  # with contact: Newton's own direction and slope, when the solved normals replace it
-            if p.contact is not None:  # the contact normals solved against the barrier, then the safe step
-                dx = np.zeros_like(x)
-                dx[free] = d
-                if newton and cm > 0:  # the 1-D models need the inertia's stiffness (none in equilibrium)
-                    solved = p.contact.relax(x, dx, self._stiffness)
-                    if solved is not dx and float(g @ solved[free]) < 0:
-                        plain = (dx, d, slope)
-                        dx, d, slope = solved, solved[free], float(g @ solved[free])
-                alpha = p.max_step(x, dx)
-                d, slope = alpha * d, alpha * slope
-            new_ref = ref is None
-            if new_ref:  # phi there is evaluated when a step is first weighed against it
-                ref = [x, fx, d, slope]
-            xt = gt = None
-            if relaxed > 0:  # a full Newton step, kept even if phi grows, for at most WATCHDOG steps in a row
-                xt = x.copy()
-                xt[free] += d
-                report.seconds["search"] += time.perf_counter() - t0
-                gt = grad(xt)[free]
-                t0 = time.perf_counter()
-                target = report.tolerance = max(target, report.floor)
-                weigh = not float(np.max(np.abs(gt))) <= target  # a step that converges needs no weighing
-                ft = None
-                if weigh and plain is not None:  # the solved normals must gain on x itself, else Newton's own step
-                    fx = phi(x) if fx is None else fx
-                    if new_ref:
-                        ref[1] = fx
-                    ft = phi(xt)
-                    if not ft <= fx + 1e-4 * slope:  # Newton's own step, clipped
-                        dx, d, slope = plain
-                        alpha = p.max_step(x, dx)
-                        d, slope, ft = alpha * d, alpha * slope, None
-                        if new_ref:
-                            ref[2:] = [d, slope]
-                        xt = x.copy()
-                        xt[free] += d
-                        gt = grad(xt)[free]
-                        weigh = not float(np.max(np.abs(gt))) <= target
-                if weigh:
-                    fx = phi(xt) if ft is None else ft
-                    if ref[1] is None:
-                        ref[1] = phi(ref[0])
-                    if not np.isfinite(fx):
-                        xt, gt, relaxed = None, None, 0
-                    elif fx <= ref[1] + 1e-4 * ref[3]:
-                        ref, relaxed = None, WATCHDOG
-                    else:
-                        relaxed -= 1
-            if xt is None:  # back to the reference, and a monotone backtracking search along its direction
-                xr, fr, dr, sr = ref
-                xt, fx = self._backtrack(phi, xr, phi(xr) if fr is None else fr, dr, sr, free, label, it, report)
-                ref = None
+            first, fallback = self._candidates(x, g, d, slope, newton and cm > 0)
+            target = report.tolerance = max(target, report.floor)
+            try:
+                xt, gt = search.step(x, first, fallback, target, it, report.residuals[-1])
+            except ConvergenceError as err:
+                raise ConvergenceError(str(err), report.residuals, err.X) from None
             moved = float(np.max(np.abs(xt - x)))
             x = xt
             report.seconds["search"] += time.perf_counter() - t0
@@ -390,16 +355,24 @@ class Newton:
                 break
         return x, report
 
-    @staticmethod
-    def _backtrack(phi, x, f0, d, slope, free, label, it, report):
-        """Armijo backtracking from x along the descent direction d (slope g . d < 0): the point and its phi."""
-        step = 1.0
-        for _ in range(50):
-            xt = x.copy()
-            xt[free] += step * d
-            ft = phi(xt)
-            if np.isfinite(ft) and ft <= f0 + 1e-4 * step * slope:
-                return xt, ft
-            step *= 0.5
-        raise ConvergenceError(f"{label}: line search failed at iteration {it} (residual {report.residuals[-1]:.3e})",
-                               report.residuals, x)
+    def _candidates(self, x, g, d, slope, inertia: bool):
+        """The line search's candidates: Newton's direction d (free) with its slope, or, with the potential's
+        direction filter, the filter's proposal (in time steps, ``inertia``) when it descends, each clipped to the
+        filter's safe step, and Newton's own clipped direction as the fallback, computed only when asked for."""
+        f, free = self.problem.filter, self.problem.free
+        if f is None:
+            return Candidate(d, slope), None
+        dx = np.zeros_like(x)
+        dx[free] = d
+        plain = None
+        if inertia:  # the filter's 1-D models need the inertia's stiffness (none in equilibrium)
+            proposed = f.propose(x, dx, self._stiffness)
+            if proposed is not dx and float(g @ proposed[free]) < 0:
+                plain = (dx, d, slope)
+                dx, d, slope = proposed, proposed[free], float(g @ proposed[free])
+
+        def clipped(dx, d, slope):
+            alpha = f.max_step(x, dx)
+            return Candidate(alpha * d, alpha * slope)
+
+        return clipped(dx, d, slope), None if plain is None else (lambda: clipped(*plain))

@@ -58,6 +58,9 @@ class FlatEnergy:
         obstacles).
     contact : deformable.contact.ContactPotential or None
         The barrier and friction of the scene's obstacles (None without obstacles).
+    filter : DirectionFilter or None
+        What changes and clips Newton's directions (:class:`deformable.solve.newton.DirectionFilter`): the contact,
+        with obstacles; None without.
     """
 
     def __init__(self, model):
@@ -77,6 +80,7 @@ class FlatEnergy:
                 raise ValueError(f"contact method {model.scene.contact.method!r} (the paper's exponential force) is "
                                  "for the semi-implicit scheme; the implicit schemes and equilibrium take the barrier")
             self.contact = ContactPotential(model)
+        self.filter = self.contact
         self.linear = bool(model.linear and self.loads.linear and self.contact is None)
         self.t = 0.0
 
@@ -110,11 +114,6 @@ class FlatEnergy:
         if damping is not None:
             out.append(damping)
         return out
-
-    def max_step(self, x, dx) -> float:
-        """The largest alpha in (0, 1] by which x may move along dx (flat, 3 ndof) without a contact point
-        crossing an obstacle (1 without obstacles; :meth:`deformable.contact.ContactPotential.max_step`)."""
-        return 1.0 if self.contact is None else self.contact.max_step(x, dx)
 
     def load(self, t: float) -> np.ndarray:
         """The applied loads at t (body, edge, point), flat (N)."""

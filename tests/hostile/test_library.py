@@ -322,7 +322,7 @@ def _singular(*args, **kwargs):
 
 
 def _singular_pardiso(*args, **kwargs):
-    from deformable.algebra.solvers import SingularMatrix
+    from deformable.errors import SingularMatrix
 
     raise SingularMatrix("PARDISO: failed")  # what the wrapper makes of a PyPardisoError
 

@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 import warnings
 
-from deformable.geometry.compatibility import IncompatibleRestState, check_rest_state
+from deformable.errors import IncompatibleRestState
+from deformable.geometry.compatibility import check_rest_state
 from deformable.scenes import build
 
 from .run import _Error, parse_grid, scene_config

@@ -6,7 +6,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from deformable.algebra import solvers as linalg
-from deformable.algebra.solvers import SingularMatrix, make_solver
+from deformable.algebra.solvers import make_solver
+from deformable.errors import SingularMatrix
 
 
 def laplacian(n: int, shift: float) -> sp.csr_matrix:

@@ -19,7 +19,7 @@ import pytest
 import scipy.sparse.linalg as spla
 
 import deformable as dm
-from deformable.solve.newton import ConvergenceError
+from deformable.errors import ConvergenceError
 from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
 

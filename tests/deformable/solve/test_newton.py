@@ -6,8 +6,10 @@ import scipy.sparse as sp
 
 import deformable as dm
 from deformable.algebra.solvers import available
-from deformable.solve.newton import WATCHDOG, ConvergenceError, Newton, NewtonSettings
+from deformable.errors import ConvergenceError
+from deformable.solve.newton import Newton, NewtonSettings
 from deformable.solve.potential import FlatEnergy, flat, unflat
+from deformable.solve.search import WATCHDOG, LineSearch
 
 from ...conftest import flat_model
 
@@ -32,7 +34,7 @@ class Diagonal:
         self.free[0] = False
         self.fixed = np.array([0])
         self.linear = False
-        self.contact = None  # no obstacles: Newton's directions are not clipped
+        self.filter = None  # no direction filter (no obstacles): Newton's directions are not clipped
         self.hessians = []
 
     def phi(self, x):
@@ -134,9 +136,31 @@ def test_a_failed_line_search_is_a_convergence_error():
         Newton(p, NewtonSettings(rtol=0.0)).minimise(phi, p.grad, np.zeros(4), label="thing")
 
 
+def test_the_armijo_search_descends_monotonically_where_the_watchdog_lets_phi_grow():
+    """The same problem as above under the registered "armijo" search: every accepted iterate lowers phi by at
+    least c times the step's slope (Nocedal and Wright's algorithm 3.1), and Newton still converges."""
+    w = lambda y: np.hypot(1.0, y) - 0.5 * y  # noqa: E731
+    dw = lambda y: y / np.hypot(1.0, y) - 0.5  # noqa: E731
+    d2w = lambda y: np.hypot(1.0, y) ** -3.0  # noqa: E731
+    p = Diagonal([0.0, 0.0], w, dw, d2w)
+    iterates = []
+
+    def grad(x):
+        iterates.append(x.copy())
+        return p.grad(x)
+
+    settings = NewtonSettings(rtol=0.0, atol=1e-12, reuse=False, search="armijo", armijo=0.25)
+    x, report = Newton(p, settings).minimise(p.phi, grad, np.array([0.0, 3.0]))
+    assert report.converged and abs(x[1] - 1 / np.sqrt(3)) < 1e-9
+    values = [p.phi(y) for y in iterates]
+    assert all(b < a for a, b in zip(values, values[1:])), "Armijo backtracking never lets phi grow"
+    assert LineSearch.names() == ("watchdog", "armijo")
+
+
 @pytest.mark.parametrize("field, value, message", [
     ("rtol", -1.0, "rtol must be a finite non-negative"), ("max_iter", 1.5, "max_iter must be a non-negative integer"),
     ("hessian", "exact", "hessian must be 'auto' or one of"), ("solver", "umfpack", "solver must be one of"),
+    ("search", "wolfe", "search must be one of watchdog, armijo"), ("armijo", 0.5, r"armijo must lie in \(0, 1/2\)"),
 ])
 def test_bad_settings_name_the_field(field, value, message):
     with pytest.raises(ValueError, match=message):
