@@ -1,5 +1,5 @@
 r"""Checks of single values at construction time, each failing with an :class:`~deformable.errors.InputError`
-that names the field and the refused value.
+that names the field and the refused value; and the one check of a table's keys (:func:`known_keys`).
 
 Every constructor of the library checks its arguments before any work
 (docs/design.md, "Input"): numbers are real and finite (a bool or a string
@@ -16,7 +16,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["real", "count", "function", "finite_array", "vector", "sequence"]
+__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys"]
 
 
 def real(field: str, value, *, positive: bool = False, non_negative: bool = False, low: float | None = None,
@@ -96,3 +96,16 @@ def sequence(field: str, value, kinds: tuple, names: str) -> tuple:
         if not isinstance(item, kinds):
             raise InputError(f"{field}: {item!r} is not a {names}", field=field, value=item)
     return tuple(value)
+
+
+def known_keys(table, known, where: str, field: str | None = None) -> None:
+    """InputError naming the first key of ``table`` that is not one of ``known``, and the known ones.
+
+    ``where`` says whose keys they are, after "unknown key 'k'": "in scene file 'a.toml'", "for scene
+    'curtain'", "in the newton settings". The one check of every table and keyword set the project reads.
+    """
+    known = list(known)
+    for key in table:
+        if key not in known:
+            raise InputError(f"unknown key {key!r} {where}; known keys: {', '.join(map(str, known))}",
+                             field=field or str(key), value=key)

@@ -51,7 +51,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..physics.forces import _vector as finite_vector
+from ..checks import known_keys, vector
 
 __all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table"]
 
@@ -60,7 +60,7 @@ _ROOT_ITERATIONS = 60
 
 
 def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
-    v = finite_vector(f"{owner}.{name}", value)
+    v = vector(f"{owner}.{name}", value, 3, "a finite 3-vector")
     if unit:
         norm = float(np.linalg.norm(v))
         if norm == 0:
@@ -360,10 +360,7 @@ def from_table(table, source: str = "obstacle") -> Obstacle:
     if kind not in OBSTACLES:
         raise ValueError(f"{source} needs kind = one of {', '.join(map(repr, OBSTACLES))}, got {kind!r}")
     cls = OBSTACLES[kind]
-    known = [f.name for f in fields(cls)]
-    for key in table:
-        if key not in known:
-            raise ValueError(f"unknown key {key!r} in {source} of kind {kind!r}; known keys: kind, {', '.join(known)}")
+    known_keys(table, ["kind"] + [f.name for f in fields(cls)], f"in {source} of kind {kind!r}")
     return cls(**table)
 
 

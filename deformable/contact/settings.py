@@ -15,6 +15,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from ..checks import known_keys
 from ..physics.forces import Gravity
 from .barrier import barrier_derivative
 
@@ -101,10 +102,7 @@ class Contact:
             return table
         if not isinstance(table, dict):
             raise ValueError(f"{source} must be a table of {', '.join(f.name for f in fields(cls))}, got {table!r}")
-        known = [f.name for f in fields(cls)]
-        for key in table:
-            if key not in known:
-                raise ValueError(f"unknown key {key!r} in {source}; known keys: {', '.join(known)}")
+        known_keys(table, [f.name for f in fields(cls)], f"in {source}")
         return replace(base, **table) if base is not None else cls(**table)
 
     def table(self) -> dict:

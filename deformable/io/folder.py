@@ -39,7 +39,7 @@ CONFIG_HEADER = "# resolved scene config"
 
 def _run_file():
     """A pattern of the names of the files ``deformable run`` writes for any scene of deformable.scenes.SCENES."""
-    from ..scenes.catalogue import SCENES
+    from ..scenes.registry import SCENES
 
     names = "|".join(re.escape(n) for n in sorted(SCENES, key=len, reverse=True))
     return re.compile(rf"(?:{names})(?:-from-\d+)?(?:\.xdmf|\.h5|\.xdmf\.tmp|-checkpoint-\d+(?:\.tmp)?\.npz"

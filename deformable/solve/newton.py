@@ -75,6 +75,7 @@ import scipy.sparse as sp
 
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import make_solver, one_blas_thread
+from ..checks import known_keys
 from ..errors import ConvergenceError, InputError, SingularMatrix
 from .potential import FlatEnergy
 from .search import Candidate, LineSearch
@@ -189,10 +190,7 @@ class NewtonSettings:
         if not isinstance(value, dict):
             raise InputError(f"newton settings must be a NewtonSettings or a dict, got {value!r}", field="newton",
                              value=value)
-        for key in value:
-            if key not in cls.__dataclass_fields__:
-                raise InputError(f"unknown newton setting {key!r}; known: {', '.join(cls.__dataclass_fields__)}",
-                                 field="newton", value=key)
+        known_keys(value, cls.__dataclass_fields__, "in the newton settings", field="newton")
         return cls(**value)
 
 

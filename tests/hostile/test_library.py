@@ -191,7 +191,7 @@ STEPPER = {
     "solver unknown": (lambda: dm.TimeStepper(flat_model(), 1e-3, solver="umfpack"), "solver must be one of"),
     "model None": (lambda: dm.TimeStepper(None, 1e-3), "model must be a backend"),
     "newton unknown key": (lambda: dm.TimeStepper(flat_model(force_model="variational"), 1e-3, newton=dict(foo=1)),
-                           "unknown newton setting 'foo'"),
+                           "unknown key 'foo' in the newton settings"),
     "newton text": (lambda: dm.TimeStepper(flat_model(force_model="variational"), 1e-3, newton="x"),
                     "newton settings must be"),
     "newton rtol nan": (lambda: dm.TimeStepper(flat_model(force_model="variational"), 1e-3,

@@ -18,11 +18,11 @@ from __future__ import annotations
 import math
 import warnings
 
-from deformable.errors import IncompatibleRestState
+from deformable.errors import IncompatibleRestState, InputError
 from deformable.geometry.compatibility import check_rest_state
 from deformable.scenes import build
 
-from .run import _Error, parse_grid, scene_config
+from .run import parse_grid, scene_config
 
 __all__ = ["configure", "execute"]
 
@@ -39,16 +39,16 @@ def execute(args) -> int:
     try:
         rtol = float(args.rtol)
     except ValueError:
-        raise _Error(f"--rtol must be a number in (0, 1), got {args.rtol!r}") from None
+        raise InputError(f"--rtol must be a number in (0, 1), got {args.rtol!r}") from None
     if not (math.isfinite(rtol) and 0 < rtol < 1):
-        raise _Error(f"--rtol must be a number in (0, 1), got {args.rtol!r}")
+        raise InputError(f"--rtol must be a number in (0, 1), got {args.rtol!r}")
     cfg = scene_config(args.scene)
     with warnings.catch_warnings():  # the Scene warns of an incompatible rest state; the command reports it
         warnings.simplefilter("ignore", IncompatibleRestState)
         scene = build(cfg)
     nodes = parse_grid(args.grid) if args.grid is not None else None
     if nodes is not None and min(nodes) < 9:
-        raise _Error(f"grid {args.grid!r}: the test needs at least 9 points a side")
+        raise InputError(f"grid {args.grid!r}: the test needs at least 9 points a side")
     result = check_rest_state(scene, nodes, rtol=rtol)
     grid = nodes or tuple(max(n, 33) for n in scene.sheet.nodes)
     verdict = "compatible" if result.compatible else "NOT compatible"

@@ -66,6 +66,7 @@ from pathlib import Path
 
 import deformable
 from deformable import scenes
+from deformable.checks import known_keys
 from deformable.contact.points import clearance, require_outside
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
@@ -88,10 +89,6 @@ RUN_KEYS = ("backend", "scheme", "steps", "every", "version")
 DEFAULT_EVERY = 0.02
 #: a line on a run's final state, by scene: what the scene measures (the drape coefficient)
 MEASURES = {"drape": drape.final_line}
-
-
-class _Error(InputError):
-    """Bad input: the command line prints it as one line and exits with code 2."""
 
 
 def configure(parser) -> None:
@@ -138,10 +135,10 @@ def parse_grid(text: str) -> tuple[int, int]:
     """``"MxN"`` -> (M, N); InputError unless two integers >= 3."""
     m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", str(text))
     if not m:
-        raise _Error(f"malformed grid {text!r}: expected MxN, e.g. 32x32", field="--grid", value=text)
+        raise InputError(f"malformed grid {text!r}: expected MxN, e.g. 32x32", field="--grid", value=text)
     M, N = int(m.group(1)), int(m.group(2))
     if min(M, N) < 3:
-        raise _Error(f"grid {text!r} needs at least 3 nodes a side", field="--grid", value=text)
+        raise InputError(f"grid {text!r} needs at least 3 nodes a side", field="--grid", value=text)
     return M, N
 
 
@@ -156,9 +153,9 @@ def parse_overrides(items) -> dict:
         key, sep, text = str(item).partition("=")
         key = key.strip()
         if not sep or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", key):
-            raise _Error(f"expected KEY=VALUE, e.g. eta=25, got {item!r}", field="KEY=VALUE", value=item)
+            raise InputError(f"expected KEY=VALUE, e.g. eta=25, got {item!r}", field="KEY=VALUE", value=item)
         if key in out:
-            raise _Error(f"scene field {key} is given twice on the command line", field=key, value=text)
+            raise InputError(f"scene field {key} is given twice on the command line", field=key, value=text)
         try:
             value = tomllib.loads(f"v = {text}")["v"]
         except tomllib.TOMLDecodeError:
@@ -181,7 +178,7 @@ def _source(scene: str) -> tuple[str | None, str]:
     try:
         return Path(scene).read_text(), scene
     except (OSError, UnicodeDecodeError) as err:
-        raise _Error(f"cannot read scene file {scene!r}: {getattr(err, 'strerror', None) or err}", field="scene",
+        raise InputError(f"cannot read scene file {scene!r}: {getattr(err, 'strerror', None) or err}", field="scene",
                      value=scene) from None
 
 
@@ -191,10 +188,10 @@ def _positive(name: str, text, kind=float):
     try:
         value = kind(text)
     except (TypeError, ValueError, OverflowError):
-        raise _Error(f"--{name} must be a positive {'integer' if kind is int else 'number'}, got {text!r}",
+        raise InputError(f"--{name} must be a positive {'integer' if kind is int else 'number'}, got {text!r}",
                      field=f"--{name}", value=text) from None
     if not (math.isfinite(value) and value > 0):
-        raise _Error(f"--{name} must be positive, got {text!r}", field=f"--{name}", value=text)
+        raise InputError(f"--{name} must be positive, got {text!r}", field=f"--{name}", value=text)
     return value
 
 
@@ -203,10 +200,7 @@ def _table(text: str | None, source: str) -> dict:
     if text is None:
         return {}
     table = scenes.run_table(text, source)
-    for key in table:
-        if key not in RUN_KEYS:
-            raise _Error(f"unknown key {key!r} in the [run] table of {source!r}; known keys: {', '.join(RUN_KEYS)}",
-                         field=key, value=table[key])
+    known_keys(table, RUN_KEYS, f"in the [run] table of {source!r}")
     if table.get("version", deformable.__version__) != deformable.__version__:
         log.warning("%s was written by deformable %s, this is %s: the numbers may differ", source,
                     table["version"], deformable.__version__)
@@ -235,7 +229,7 @@ def prepare(args) -> Run:
     """Check all input and build the model; raises InputError (a ValueError) on bad input, writes nothing."""
     run = Run()
     if args.field not in FIELDS:
-        raise _Error(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
+        raise InputError(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
                      value=args.field)
     dt = _positive("dt", args.dt)
     steps = _positive("steps", args.steps, int)
@@ -254,19 +248,19 @@ def prepare(args) -> Run:
         cli["dt"] = dt
     if args.force_model is not None:
         if args.force_model not in ForceModel.names():
-            raise _Error(f"unknown force model {args.force_model!r}; choose one of {', '.join(ForceModel.names())}",
+            raise InputError(f"unknown force model {args.force_model!r}; choose one of {', '.join(ForceModel.names())}",
                          field="--force-model", value=args.force_model)
         cli["force_model"] = args.force_model
     for key in set(cli) & set(overrides):
         if cli[key] != overrides[key]:
-            raise _Error(f"scene field {key} is {overrides[key]!r} as KEY=VALUE but {cli[key]!r} as an option",
+            raise InputError(f"scene field {key} is {overrides[key]!r} as KEY=VALUE but {cli[key]!r} as an option",
                          field=key, value=overrides[key])
 
     checkpoint = None
     if args.resume is not None:
         checkpoint = load_checkpoint(args.resume, t0=0.0)  # the command's runs start at t = 0
     if args.scene is None and checkpoint is None:
-        raise _Error("name a scene or a scene file (or --resume a checkpoint)", field="scene", value=None)
+        raise InputError("name a scene or a scene file (or --resume a checkpoint)", field="scene", value=None)
     text, source = (_source(args.scene) if args.scene is not None
                     else (checkpoint["config"], f"the checkpoint {args.resume}"))
     table = _table(text, source)
@@ -275,7 +269,7 @@ def prepare(args) -> Run:
            else scenes.config(source, **fields_))
     backend = args.backend or table.get("backend") or (checkpoint["backend"] if checkpoint else "fd")
     if backend not in BACKENDS:
-        raise _Error(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}", field="backend",
+        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}", field="backend",
                      value=backend)
     scene = scenes.build(cfg)
     model = make_model(scene, backend)
@@ -303,21 +297,21 @@ def prepare(args) -> Run:
         try:
             require_outside(model, X0 if run.start is None else run.start.X, "the start")
         except ValueError as err:
-            raise _Error(str(err)) from None
+            raise InputError(str(err)) from None
     t_now = 0.0 if run.start is None else run.start.t
     step_now = 0 if run.start is None else run.start.step
     if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
         steps = _positive("steps", table["steps"], int)  # a resolved config of a run given --steps
     if steps is not None:
         if steps <= step_now:
-            raise _Error(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
+            raise InputError(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
                          f"{steps}", field="--steps", value=steps)
         run.steps, run.t_end = steps - step_now, None
         cfg = cfg.replace(t_end=frame_time(steps * cfg.dt))  # the end at the requested dt ([run] steps rules)
     else:
         t_end = t_end if t_end is not None else cfg.t_end
         if not t_end > t_now * (1 + 1e-12):
-            raise _Error(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do until "
+            raise InputError(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do until "
                          f"t = {t_end:.6g} s", field="--t-end", value=t_end)
         cfg = cfg.replace(t_end=t_end)
         run.steps, run.t_end = None, t_end
@@ -335,7 +329,7 @@ def prepare(args) -> Run:
 
 
 def _fits(path, checkpoint, cfg, backend, stepper) -> None:
-    """_Error naming the first field in which the run asked for differs from the checkpoint's."""
+    """InputError naming the first field in which the run asked for differs from the checkpoint's."""
     base = scenes.read_toml_text(checkpoint["config"], source=path)
     diff = _differences(cfg, base)
     if checkpoint["backend"] != backend:
@@ -347,11 +341,11 @@ def _fits(path, checkpoint, cfg, backend, stepper) -> None:
         diff.append(f"dt = {cfg.dt!r} vs {checkpoint['dt']!r}")
     if diff:
         more = f" (and {len(diff) - 1} more)" if len(diff) > 1 else ""
-        raise _Error(f"resume file {str(path)!r} does not fit the run asked for: {diff[0]} (asked for vs the "
+        raise InputError(f"resume file {str(path)!r} does not fit the run asked for: {diff[0]} (asked for vs the "
                      f"checkpoint's){more}", field=diff[0].split(" =")[0], value=path)
     X = checkpoint["X"]
     if X.shape != (stepper.model.ndof, 3):
-        raise _Error(f"resume file {str(path)!r} holds states of shape {X.shape}, the scene has "
+        raise InputError(f"resume file {str(path)!r} holds states of shape {X.shape}, the scene has "
                      f"({stepper.model.ndof}, 3)", field="resume", value=path)
 
 

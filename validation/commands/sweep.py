@@ -52,6 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from deformable import scenes
+from deformable.checks import known_keys
 from validation.harness.backends import BACKENDS
 from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
@@ -135,9 +136,7 @@ def parse_axis(base, text: str) -> tuple[str, tuple]:
         raise ValueError(f"sweep values must be KEY=V1,V2,... or KEY=START:STOP:NUM, got {text!r}")
     if key == "scene":
         raise ValueError("the scene itself is not a sweep key: run one sweep per scene")
-    known = {f.name for f in fields(base)} - {"scene"}
-    if key not in known:
-        raise ValueError(f"unknown key {key!r} for scene {base.scene!r}; known keys: {', '.join(sorted(known))}")
+    known_keys([key], sorted(f.name for f in fields(base)), f"for scene {base.scene!r}")
     values = []
     for item in rest.split(","):
         for v in _values(key, item, getattr(base, key)):

@@ -1,0 +1,239 @@
+r"""What every scene's config has: :class:`SceneConfig`, the registered base of the catalogue (its fields, checks,
+material and the section 3.1 scaling).
+
+A config is a frozen dataclass of plain numbers (SI units) whose defaults are
+the scene's values; a scene of the catalogue is one subclass with a ``name``
+(the project's registry, :mod:`deformable.registry`) that adds its fields or
+changes their defaults and builds its :class:`~deformable.scene.Scene`
+(:mod:`.cloth`, :mod:`.curtain`, :mod:`.flag`, :mod:`.contact`). A config
+written by a user's own module registers in the same way and is then
+accepted by name wherever a scene is (scene files, ``deformable run``).
+
+Macro control (section 3.1): ``scale`` multiplies mu, gamma and the applied
+forces while eta and xi stay (:meth:`SceneConfig.scaling`); mu and gamma are
+the real-world values before scaling, so a scene file states the physics and
+its scaling apart, as section 4 recommends.
+"""
+
+import dataclasses
+import math
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+import numpy as np
+
+from ..checks import known_keys
+from ..contact.obstacles import Obstacle
+from ..contact.obstacles import from_table as obstacle_from_table
+from ..contact.settings import Contact
+from ..dynamics.stepper import DT_MIN
+from ..errors import InputError
+from ..physics.force_models import ForceModel
+from ..physics.material import Material
+from ..registry import Registered
+from ..scene.scene import Scene
+
+__all__ = ["SceneConfig"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class SceneConfig(Registered, family="scene"):
+    """Fields every scene has (SI units); a subclass with a ``name`` is a scene of the catalogue.
+
+    A scene is one subclass: its ``name`` and ``summary``, the fields it adds or whose defaults it changes,
+    and :meth:`build`, which turns the config into a :class:`~deformable.scene.Scene`. The registry name is
+    also :attr:`scene` (the first key of a scene file).
+
+    Parameters
+    ----------
+    size : (L1, L2)
+        Sheet size in m (the parameter rectangle, metres at rest).
+    nodes : (M, N)
+        Node grid.
+    mu : float
+        Real-world mass density in kg/m^2 (the scene uses ``scale * mu``).
+    gamma : float
+        Real-world damping density in kg/(m^2 s) (the scene uses ``scale * gamma``).
+    eta, xi : float
+        Stretching (N/m) and bending (N m) weights of eq. (13), eta_11 = eta_22 = eta, xi_11 = xi_22 = xi.
+    shear : float
+        eta_12 = shear eta and xi_12 = shear xi (1: the isotropic sheet with
+        Poisson ratio 0; the paper: 0).
+    g : float
+        Gravity in m/s^2 (the force mu g scales with mu).
+    scale : float
+        The section 3.1 factor on mu, gamma and the applied forces (:meth:`scaling`).
+    dt : float
+        Default time step (s).
+    t_end : float
+        Default simulated time (s).
+    force_model : str
+        "variational" (default) or another registered force model (:class:`deformable.ForceModel`).
+    alpha, beta : float
+        The "frozen" model's weights, given directly (section 3.2): alpha_11 =
+        alpha_22 = alpha (N/m), beta_11 = beta_22 = beta and beta_12 = shear
+        beta (N m); alpha_12 = 0 (a cross weight of r_1 . r_2 would make the
+        membrane energy indefinite). The frozen model needs one of them
+        positive; the other models take eta and xi, and refuse alpha and beta.
+    rest_metric : (G0_11, G0_22)
+        The rest metric G0 = diag(G0_11, G0_22) (dimensionless); (1, 1) is the
+        flat rest shape itself. A value below 1 prestresses the sheet: it is
+        in tension until its fibres shrink to sqrt(G0_ii) of their length.
+    rest_curvature : (B0_11, B0_22)
+        The rest curvature B0 = diag(B0_11, B0_22) (1/m); (0, 0) is the flat
+        rest shape. (1 / R, 0) is a cylinder of radius R along a2, a sheet that
+        curls back into it; both non-zero on a flat metric is no surface at
+        all (eq. (10): ``deformable check`` says so, and the Scene warns).
+    obstacles : tuple of Obstacle
+        Obstacles besides the scene's own (scene files: ``[[obstacles]]`` tables).
+    contact : Contact or None
+        How the sheet meets the obstacles (scene files: a ``[contact]`` table); None: ``Contact()``.
+    """
+
+    size: tuple = (1.0, 1.0)
+    nodes: tuple = (32, 32)
+    mu: float = 0.2
+    gamma: float = 0.1
+    eta: float = 20.0
+    xi: float = 1e-5
+    shear: float = 1.0
+    g: float = 9.81
+    scale: float = 1.0
+    dt: float = 5e-3
+    t_end: float = 2.0
+    force_model: str = "variational"
+    alpha: float = 0.0
+    beta: float = 0.0
+    rest_metric: tuple = (1.0, 1.0)
+    rest_curvature: tuple = (0.0, 0.0)
+    obstacles: tuple = ()
+    contact: Contact | None = None
+    #: fields that must be positive, and non-negative (subclasses add theirs)
+    POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
+    NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi", "alpha", "beta")
+
+    #: the registry's one line on the scene (scene files, listings)
+    summary: ClassVar[str] = ""
+
+    @property
+    def scene(self) -> str:
+        """The scene's registry name."""
+        return self.name
+
+    def build(self) -> Scene:
+        """The Scene of this config."""
+        raise NotImplementedError
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "obstacles":
+                if not isinstance(value, (dict, Obstacle, list, tuple)):
+                    raise InputError(f"scene field obstacles must be [[obstacles]] tables (or obstacles), got {value!r}",
+                                     field="obstacles", value=value)
+                tables = [value] if isinstance(value, (dict, Obstacle)) else list(value)
+                object.__setattr__(self, f.name, tuple(obstacle_from_table(t, f"scene field obstacles[{k}]")
+                                                       for k, t in enumerate(tables)))
+            elif f.name == "contact":
+                if value is not None:
+                    object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
+            elif f.name == "force_model":
+                if not isinstance(value, str) or value not in ForceModel.names():
+                    raise InputError(f"scene field force_model must be one of {', '.join(ForceModel.names())}, "
+                                     f"got {value!r}", field="force_model", value=value)
+            elif f.name in ("size", "nodes", "rest_metric", "rest_curvature"):
+                kind = int if f.name == "nodes" else float
+                try:
+                    pair = tuple(value)
+                    ok = len(pair) == 2 and all(
+                        not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v) and kind(v) == v
+                        for v in pair
+                    )
+                except TypeError:
+                    ok = False
+                if not ok:
+                    raise InputError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
+                object.__setattr__(self, f.name, tuple(kind(v) for v in pair))
+            elif f.type in (int, "int"):
+                if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
+                        or int(value) != value):
+                    raise InputError(f"scene field {f.name} must be an integer, got {value!r}")
+                object.__setattr__(self, f.name, int(value))
+            else:
+                if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                    raise InputError(f"scene field {f.name} must be a finite number, got {value!r}")
+                object.__setattr__(self, f.name, float(value))
+        for name in self.POSITIVE:
+            if getattr(self, name) <= 0:
+                raise InputError(f"scene field {name} must be positive, got {getattr(self, name)!r}")
+        for name in self.NON_NEGATIVE:
+            if getattr(self, name) < 0:
+                raise InputError(f"scene field {name} must be non-negative, got {getattr(self, name)!r}")
+        if not 0 <= self.shear <= 1:
+            raise InputError(f"scene field shear must lie in [0, 1] (eta_12 <= eta keeps eq. (13) definite), "
+                             f"got {self.shear!r}")
+        if min(self.rest_metric) <= 0 or min(self.size) <= 0:
+            raise InputError(f"scene fields size and rest_metric must be positive, got {self.size!r}, "
+                             f"{self.rest_metric!r}", field="size", value=self.size)
+        if min(self.nodes) < 3:
+            raise InputError(f"scene field nodes must be at least 3 a side, got {self.nodes!r}")
+        if self.dt < DT_MIN:
+            raise InputError(f"scene field dt must be at least {DT_MIN:g} s, got {self.dt!r}", field="dt",
+                             value=self.dt)
+        for name in ("mu", "gamma"):
+            if not math.isfinite(self.scale * getattr(self, name)):
+                raise InputError(f"scene fields scale and {name}: scale * {name} = {self.scale!r} * "
+                                 f"{getattr(self, name)!r} is not a finite number", field=name,
+                                 value=getattr(self, name))
+        direct = self._weights_given()
+        if direct and not (self.alpha > 0 or self.beta > 0):
+            raise InputError(f"scene fields alpha and beta: the {self.force_model} force model needs alpha > 0 or "
+                             "beta > 0 (its weights, given directly; e.g. alpha=1 beta=1e-3)", field="alpha",
+                             value=self.alpha)
+        if not direct and (self.alpha or self.beta):
+            raise InputError(f"scene fields alpha = {self.alpha!r}, beta = {self.beta!r} are the frozen model's "
+                             f"weights; the {self.force_model} model takes eta and xi (set force_model = \"frozen\")",
+                             field="alpha", value=self.alpha)
+
+    def _weights_given(self) -> bool:
+        """The force model takes its weights as alpha and beta, given directly (the frozen model, section 3.2)."""
+        return ForceModel.lookup(self.force_model).weights == ("alpha", "beta")
+
+    def with_obstacles(self, *own: Obstacle) -> dict:
+        """:meth:`scene_kwargs` with the scene's own obstacles before the config's extra ones."""
+        kwargs = self.scene_kwargs()
+        kwargs["obstacles"] = own + tuple(self.obstacles)
+        return kwargs
+
+    def scene_kwargs(self) -> dict:
+        """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
+        G0 = None if self.rest_metric == (1.0, 1.0) else np.diag(self.rest_metric)
+        B0 = None if self.rest_curvature == (0.0, 0.0) else np.diag(self.rest_curvature)
+        return dict(force_model=self.force_model, rest_metric=G0, rest_curvature=B0, name=self.scene,
+                    obstacles=self.obstacles, contact=self.contact)
+
+    def replace(self, **changes) -> "SceneConfig":
+        """A copy with some fields changed; an unknown field is a ValueError naming it."""
+        known_keys(changes, sorted(f.name for f in fields(self)), f"for scene {self.scene!r}")
+        if isinstance(changes.get("contact"), dict):  # a [contact] table overrides the scene's own settings
+            changes["contact"] = Contact.from_table(changes["contact"], "scene field contact", base=self.contact)
+        return dataclasses.replace(self, **changes)
+
+    def material(self) -> Material:
+        """mu, gamma times ``scale``; eta and xi as full tensors (``shear`` off the diagonal)."""
+        def tensor(w):
+            return np.array([[w, self.shear * w], [self.shear * w, w]])
+
+        frozen = {}
+        if self._weights_given():  # alpha_12 = 0, beta_12 = shear beta (the field docs of SceneConfig)
+            frozen = dict(alpha=np.diag([self.alpha, self.alpha]), beta=tensor(self.beta))
+        return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=tensor(self.eta),
+                        xi=tensor(self.xi), **frozen)
+
+    def scaling(self) -> str:
+        """What ``scale`` does, in words (section 3.1)."""
+        if self.scale == 1:
+            return "scale 1: mu, gamma and the forces are the real-world values"
+        return (f"scale {self.scale:g}: mu, gamma and the applied forces are {self.scale:g} times the real-world "
+                f"values while eta and xi stay, so the sheet moves as the real one would with eta = "
+                f"{self.eta / self.scale:.4g} N/m and xi = {self.xi / self.scale:.4g} N m (section 3.1)")
