@@ -5,8 +5,7 @@ forces, constraints and scene, the tensors of eq. (4)-(8) and the elastic law
 of eq. (13)-(15), the backend contract, fixed-pattern sparse assembly, the time
 stepping of eq. (22)-(27) and the implicit schemes, static equilibrium, the
 paper's compatibility test and scenes, rigid obstacles and contact
-(:mod:`deformable.contact.obstacles`, :mod:`deformable.contact`; the obstacle plane is
-``deformable.HalfSpace``, also ``deformable.contact.obstacles.Plane``), and the output of runs (an XDMF
+(:mod:`deformable.contact`; the obstacle plane is ``deformable.HalfSpace``), and the output of runs (an XDMF
 series for ParaView, frames rendered from it, checkpoints). The backends are ``fdmodel.FDModel``
 (finite differences) and ``femodel.FEModel`` (finite elements); the validation
 harness and the command line live in ``validation``. The design is in

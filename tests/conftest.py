@@ -6,6 +6,7 @@ Everything else comes from the package itself: analytic surfaces from
 :func:`validation.harness.backends.make_model`.
 """
 
+import meshio
 import numpy as np
 import pytest
 
@@ -116,3 +117,21 @@ def checks_pass(res):
     assert not failed, "\n".join(failed)
     assert res.checks, f"study {res.study} made no check"
     return res
+
+
+def series_frames(xdmf):
+    """(t, points, point data) of every frame of a series."""
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as reader:
+        points, _ = reader.read_points_cells()
+        return [(t, points, data) for t, data, _ in (reader.read_data(k) for k in range(reader.num_steps))]
+
+
+def assert_same_series(a, b):
+    """Two XDMF series have the same frames, times, positions and point data, bit for bit."""
+    fa, fb = series_frames(a), series_frames(b)
+    assert len(fa) == len(fb) > 1
+    for (ta, pa, da), (tb, pb, db) in zip(fa, fb):
+        assert ta == tb and set(da) == set(db)
+        np.testing.assert_array_equal(pa, pb)
+        for name in da:
+            np.testing.assert_array_equal(da[name], db[name], err_msg=f"{name} at t = {ta}")

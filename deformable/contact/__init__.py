@@ -12,12 +12,12 @@ Imports the ground floor, :mod:`deformable.geometry`, :mod:`deformable.algebra` 
 """
 
 from .barrier import barrier, barrier_derivative, barrier_second, mollifier
-from .obstacles import OBSTACLES, Box, Cylinder, HalfSpace, Obstacle, Plane, Sphere, from_table, to_table
+from .obstacles import Box, Cylinder, HalfSpace, Obstacle, Sphere, from_table, to_table
 from .points import ContactPoints, clearance, contact_points, require_outside, subgrid
 from .potential import ContactPotential
 from .repulsion import Repulsion
 from .settings import METHODS, Contact, weight_per_area
 
-__all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table",
+__all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table",
            "Contact", "METHODS", "weight_per_area", "ContactPoints", "subgrid", "contact_points", "require_outside",
            "clearance", "barrier", "barrier_derivative", "barrier_second", "mollifier", "ContactPotential", "Repulsion"]

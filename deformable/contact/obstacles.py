@@ -12,9 +12,9 @@ the outward unit normal and ``hess d = (I - n n^T)(I - DP_K) / |x - P_K(x)|``,
 positive semi-definite with ``hess d n = 0``. The shapes:
 
 - :class:`HalfSpace` ``(point, normal)``: K the half-space itself (r = 0),
-  d = n . (x - p); also reached as ``deformable.contact.obstacles.Plane`` (the
-  :class:`deformable.geometry.surfaces.Plane` of the rest shapes is another thing, a
-  surface, not an obstacle);
+  d = n . (x - p); its kind in a scene file is "plane" (the one class called
+  Plane is the flat surface of the rest shapes,
+  :class:`deformable.geometry.surfaces.Plane`);
 - :class:`Sphere` ``(center, radius)``: K a point, r the radius;
 - :class:`Box` ``(lower, upper, rounding)``: an axis-aligned box with edges
   and corners rounded by ``rounding``; K the box shrunk by it;
@@ -29,6 +29,10 @@ cylinder): with q = |p| - e componentwise and o = max(q, 0),
 
 outside (|o| > 0), and the inward face normal, zero Hessian, inside. A sphere
 is that box with e = 0.
+
+Every shape is a registered class (:mod:`deformable.registry`) whose
+``name`` is its kind in a scene file's ``[[obstacles]]`` tables; a new
+convex shape is one subclass with a ``name`` and :meth:`Obstacle.derivatives`.
 
 Safe steps. The sheet must never cross an obstacle between two iterates of
 Newton's method (Li et al. 2020, "Incremental Potential Contact", ACM TOG
@@ -46,14 +50,16 @@ non-convex obstacle would need another root finder.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, fields
-from typing import ClassVar
 
 import numpy as np
 
 from ..checks import known_keys, vector
+from ..errors import InputError
+from ..registry import Registered
 
-__all__ = ["Obstacle", "HalfSpace", "Plane", "Sphere", "Box", "Cylinder", "OBSTACLES", "from_table", "to_table"]
+__all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table"]
 
 #: Newton iterations of :meth:`Obstacle.first_contact` (quadratic convergence needs a handful)
 _ROOT_ITERATIONS = 60
@@ -116,13 +122,16 @@ def box_distance(p: np.ndarray, e: np.ndarray, hessian: bool = True):
 
 
 @dataclass(frozen=True)
-class Obstacle:
+class Obstacle(Registered, family="obstacle"):
     """A rigid convex obstacle (module docstring); subclasses give :meth:`derivatives`.
 
     Every method takes points x as an array (P, 3) in scene units (m).
     """
 
-    kind: ClassVar[str] = ""
+    @property
+    def kind(self) -> str:
+        """Its kind in a scene file: the registry name."""
+        return self.name
 
     def derivatives(self, x: np.ndarray, hessian: bool = True):
         """Signed distance d (P,) (m), its gradient n (P, 3) (the outward unit normal) and Hessian (P, 3, 3) (1/m).
@@ -202,7 +211,8 @@ class HalfSpace(Obstacle):
 
     point: tuple = (0.0, 0.0, 0.0)
     normal: tuple = (0.0, 0.0, 1.0)
-    kind: ClassVar[str] = "plane"
+    name = "plane"
+    rank = 0
 
     def __post_init__(self):
         object.__setattr__(self, "point", _vector("HalfSpace", "point", self.point))
@@ -213,10 +223,6 @@ class HalfSpace(Obstacle):
         n = np.asarray(self.normal)
         d = (x - np.asarray(self.point)) @ n
         return d, np.broadcast_to(n, x.shape).copy(), np.zeros(x.shape + (3,)) if hessian else None
-
-
-#: the obstacle plane under its name in the issue; ``deformable.contact.obstacles.Plane``, not the rest-shape Plane of sheet.py
-Plane = HalfSpace
 
 
 @dataclass(frozen=True)
@@ -231,7 +237,8 @@ class Sphere(Obstacle):
 
     center: tuple = (0.0, 0.0, 0.0)
     radius: float = 1.0
-    kind: ClassVar[str] = "sphere"
+    name = "sphere"
+    rank = 1
 
     def __post_init__(self):
         object.__setattr__(self, "center", _vector("Sphere", "center", self.center))
@@ -256,7 +263,8 @@ class Box(Obstacle):
     lower: tuple = (-0.5, -0.5, -0.5)
     upper: tuple = (0.5, 0.5, 0.5)
     rounding: float = 0.0
-    kind: ClassVar[str] = "box"
+    name = "box"
+    rank = 2
 
     def __post_init__(self):
         lo, hi = _vector("Box", "lower", self.lower), _vector("Box", "upper", self.upper)
@@ -296,7 +304,8 @@ class Cylinder(Obstacle):
     height: float = 0.1
     axis: tuple = (0.0, 0.0, 1.0)
     rounding: float = 0.0
-    kind: ClassVar[str] = "cylinder"
+    name = "cylinder"
+    rank = 3
 
     def __post_init__(self):
         object.__setattr__(self, "center", _vector("Cylinder", "center", self.center))
@@ -339,10 +348,6 @@ def _perpendicular(a: np.ndarray) -> np.ndarray:
     return p / np.linalg.norm(p)
 
 
-#: TOML ``kind`` -> obstacle class
-OBSTACLES = {cls.kind: cls for cls in (HalfSpace, Sphere, Box, Cylinder)}
-
-
 def from_table(table, source: str = "obstacle") -> Obstacle:
     """An obstacle from a TOML table ``{kind = "sphere", center = [...], radius = ...}``.
 
@@ -354,12 +359,14 @@ def from_table(table, source: str = "obstacle") -> Obstacle:
     if isinstance(table, Obstacle):
         return table
     if not isinstance(table, dict):
-        raise ValueError(f"{source} must be a table with a kind ({', '.join(OBSTACLES)}), got {table!r}")
+        raise InputError(f"{source} must be a table with a kind ({', '.join(Obstacle.names())}), got {table!r}",
+                         field=source, value=table)
     table = dict(table)
     kind = table.pop("kind", None)
-    if kind not in OBSTACLES:
-        raise ValueError(f"{source} needs kind = one of {', '.join(map(repr, OBSTACLES))}, got {kind!r}")
-    cls = OBSTACLES[kind]
+    if kind not in Obstacle.names():
+        raise InputError(f"{source} needs kind = one of {', '.join(map(repr, Obstacle.names()))}, got {kind!r}",
+                         field=source, value=kind)
+    cls = Obstacle.lookup(kind)
     known_keys(table, ["kind"] + [f.name for f in fields(cls)], f"in {source} of kind {kind!r}")
     return cls(**table)
 
@@ -367,3 +374,16 @@ def from_table(table, source: str = "obstacle") -> Obstacle:
 def to_table(obstacle: Obstacle) -> dict:
     """The TOML table of an obstacle (:meth:`Obstacle.table`)."""
     return obstacle.table()
+
+
+def __getattr__(name):
+    """Former names, each warning once: ``Plane`` (the half-space obstacle; ``Plane`` is the rest-shape surface now)
+    and ``OBSTACLES`` (the registry: ``Obstacle.names()``, ``Obstacle.lookup(kind)``)."""
+    former = {"Plane": (lambda: HalfSpace, "deformable.HalfSpace"),
+              "OBSTACLES": (lambda: {n: Obstacle.lookup(n) for n in Obstacle.names()}, "Obstacle.lookup(kind)")}
+    if name in former:
+        value, instead = former[name]
+        warnings.warn(f"deformable.contact.obstacles.{name} is deprecated; use {instead}", DeprecationWarning,
+                      stacklevel=2)
+        return value()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

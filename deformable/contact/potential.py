@@ -86,7 +86,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..geometry.tensors import tangent_basis
-from .barrier import _normal_solve, barrier, barrier_derivative, barrier_second, mollifier
+from .barrier import barrier, barrier_derivative, barrier_second, mollifier
 from .obstacles import Obstacle
 from .points import contact_points, require_outside
 from .settings import Contact, weight_per_area
@@ -95,6 +95,26 @@ __all__ = ["ContactPotential"]
 
 
 # -- the barrier potential with lagged friction -------------------------------------------------
+def _normal_solve(k, rest, sN, d0, w, dhat, keep, iterations: int = 30):
+    """Solve ``k (s - sN) + rest + w b'(d0 + s) = 0`` for s per point (:meth:`ContactPotential.relax`).
+
+    The left side increases with s (k >= 0, b'' > 0: the 1-D energy is convex). Newton from s = sN, each iterate
+    keeping at least the fraction ``keep`` of the gap d0 + s it starts from (the start too, of d0), until every
+    step is below 1e-6 of its gap. All arrays (P,) (m, N/m, N); returns s (P,) (m).
+    """
+    s = np.maximum(sN, (keep - 1.0) * d0)
+    for _ in range(iterations):
+        gap = d0 + s
+        f = k * (s - sN) + rest + w * barrier_derivative(gap, dhat)
+        fp = k + w * barrier_second(gap, dhat)
+        step = np.where(fp > 0, -f / np.where(fp > 0, fp, 1.0), 0.0)
+        step = np.maximum(step, (keep - 1.0) * gap)
+        s = s + step
+        if np.all(np.abs(step) <= 1e-6 * gap):
+            break
+    return s
+
+
 @dataclass(frozen=True)
 class _Lagged:
     """Friction data of one obstacle, frozen at the start of a step: active points, lambda (N), T (., 3, 2), r_n."""

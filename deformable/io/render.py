@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["render_series", "render_frame", "read_series", "obstacle_mesh", "FIELDS", "TITLES"]
+__all__ = ["render_series", "render_frame", "read_series", "obstacle_mesh", "offscreen_pyvista", "FIELDS", "TITLES"]
 
 log = logging.getLogger(__name__)
 
@@ -40,7 +40,7 @@ TITLES = {"speed": "speed (m/s)", "energy_density": "energy density (J/m^2)", "x
 _AXIS = {"x": 0, "y": 1, "z": 2}
 
 
-def _pyvista():
+def offscreen_pyvista():
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista
@@ -72,7 +72,7 @@ def _camera(bounds: np.ndarray):
 
 def obstacle_mesh(obstacle, bounds: np.ndarray):
     """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3)."""
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     kind = obstacle.kind
     if kind == "sphere":
         return pv.Sphere(radius=obstacle.radius, center=obstacle.center, theta_resolution=64, phi_resolution=64)
@@ -99,7 +99,7 @@ def render_frame(plotter, points, faces, values, field, clim, title, obstacles=(
     above it and three labels of three significant digits beside it, so that no label meets the title
     or another label. ``obstacles``: pyvista meshes drawn in grey.
     """
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     plotter.clear()
     for mesh in obstacles:
         plotter.add_mesh(mesh, color="lightgrey", smooth_shading=True, opacity=1.0)
@@ -149,7 +149,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     """
     if field not in FIELDS:
         raise InputError(f"unknown field {field!r}; choose one of {', '.join(FIELDS)}")
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     cells, frames = read_series(xdmf)
     if not frames:
         log.warning("no frames in %s: nothing to render", xdmf)

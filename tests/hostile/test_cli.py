@@ -394,7 +394,7 @@ def test_other_commands_refuse_bad_values_in_one_line(argv, message, tmp_path, c
 def test_a_run_killed_at_random_resumes_in_place_into_the_uninterrupted_series(tmp_path):
     """SIGKILL (no clean-up: the lock stays, the HDF5 file is not closed), then --resume of the last checkpoint
     in the same folder: the series equals the uninterrupted run's frame by frame."""
-    from tests.validation.commands.test_run import _assert_same_series
+    from tests.conftest import assert_same_series
 
     root = Path(__file__).resolve().parents[2]
     code = "import sys; from validation.commands import main; sys.exit(main(sys.argv[1:]))"
@@ -411,5 +411,5 @@ def test_a_run_killed_at_random_resumes_in_place_into_the_uninterrupted_series(t
     last = max(part.glob("curtain-checkpoint-???????.npz"))
     res = _deformable([*base, "--resume", last], cwd=root)
     assert res.returncode == 0, res.stderr
-    _assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
+    assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
     assert not (part / LOCK).exists()

@@ -17,7 +17,7 @@ import sys
 import deformable
 from deformable.errors import NumericalError
 
-__all__ = ["main", "CommandError"]
+__all__ = ["main", "CommandError", "HelpFormatter"]
 
 # subcommand -> (module, one-line help)
 COMMANDS = {
@@ -38,7 +38,7 @@ class _Parser(argparse.ArgumentParser):
         raise CommandError(f"{self.prog}: {message}")
 
 
-class _Help(argparse.HelpFormatter):
+class HelpFormatter(argparse.HelpFormatter):
     """Help that shows every option's default: "(default: X)" appended unless the text states it already."""
 
     def _get_help_string(self, action):
@@ -50,14 +50,14 @@ class _Help(argparse.HelpFormatter):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="deformable", description="Elastic sheets after Terzopoulos et al. (1987): "
-                     "finite differences and finite elements, with a validation harness.", formatter_class=_Help)
+                     "finite differences and finite elements, with a validation harness.", formatter_class=HelpFormatter)
     parser.add_argument("--version", action="version", version=f"deformable {deformable.__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress details (default: off)")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="print only errors and warnings: no progress bars, no summary (default: off)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, (module, help_) in COMMANDS.items():
-        p = sub.add_parser(name, help=help_, description=help_, formatter_class=_Help)
+        p = sub.add_parser(name, help=help_, description=help_, formatter_class=HelpFormatter)
         try:
             mod = importlib.import_module(module)
         except ModuleNotFoundError as err:

@@ -46,7 +46,7 @@ import numpy as np
 
 from .study import Figure, StudyResult, Table
 
-__all__ = ["write_study", "write_index", "versions", "markdown_table", "plot"]
+__all__ = ["write_study", "write_index", "versions", "markdown_table", "csv_text", "plot"]
 
 log = logging.getLogger(__name__)
 PACKAGES = ("deformable", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
@@ -138,7 +138,7 @@ def _csv_value(v):
     return v
 
 
-def _csv(table: Table) -> str:
+def csv_text(table: Table) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(table.columns)
@@ -263,7 +263,7 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
         (tmp / "results.json").write_text(json.dumps(_clean(payload), indent=1, default=_json_default))
         (tmp / "run.json").write_text(json.dumps(_clean(run), indent=1, default=_json_default))
         for t in res.tables:
-            (tmp / f"{_file(t)}.csv").write_text(_csv(t))
+            (tmp / f"{_file(t)}.csv").write_text(csv_text(t))
         for fig in res.figures:
             if fig.image is not None:  # drawn by the study itself
                 (tmp / f"{_file(fig)}.png").write_bytes(fig.image)

@@ -55,7 +55,7 @@ from deformable.dynamics.trackers import DivergenceGuard, Tracker
 from deformable.errors import InputError
 
 from .backends import backend_dt, descriptor, make_model
-from .report import _csv, markdown_table
+from .report import csv_text, markdown_table
 from .runner import counted
 from .study import Table
 
@@ -402,7 +402,7 @@ def write_outputs(out, sweep: Sweep, records: list[dict], command: str = "", sum
               _COLUMNS_NOTE, "", markdown_table(table.columns, table.rows), ""]
     if png is not None:
         lines += [f"![statuses over {' and '.join(sweep.swept)}](sweep.png)", ""]
-    for name, text in (("sweep.csv", _csv(table)), ("sweep.md", "\n".join(lines)),
+    for name, text in (("sweep.csv", csv_text(table)), ("sweep.md", "\n".join(lines)),
                        ("sweep.toml", scenes.to_toml(sweep.base))):
         _atomic_write(out / name, text)
         written.append(out / name)

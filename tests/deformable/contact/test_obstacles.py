@@ -62,7 +62,7 @@ def test_distances_in_closed_form():
     assert table.distance(np.array([[0.12, 0.0, 0.04]]))[0] == pytest.approx(0.05, abs=1e-15)  # off the rim (3-4-5)
     ball = ob.Sphere(center=(1, 2, 3), radius=0.5)
     assert ball.distance(np.array([[1, 2, 5]]))[0] == pytest.approx(1.5, abs=1e-15)
-    floor = ob.Plane(point=(0, 0, 1), normal=(0, 0, 2))
+    floor = ob.HalfSpace(point=(0, 0, 1), normal=(0, 0, 2))
     assert floor.normal == (0.0, 0.0, 1.0)
     assert floor.distance(np.array([[5, 5, 0.25]]))[0] == pytest.approx(-0.75, abs=1e-15)
 
@@ -125,4 +125,6 @@ def test_tables_round_trip_and_bad_input_is_named():
         ob.Box(lower=(0, 0, 1), upper=(1, 1, 0))
     with pytest.raises(ValueError, match="Cylinder.rounding"):
         ob.Cylinder(radius=0.1, height=1.0, rounding=0.2)
-    assert dm.HalfSpace is ob.Plane
+    with pytest.warns(DeprecationWarning, match="obstacles.Plane is deprecated; use deformable.HalfSpace"):
+        assert ob.Plane is dm.HalfSpace  # the former name of the half-space: one Plane now, the rest-shape surface
+    assert ob.Obstacle.names() == ("plane", "sphere", "box", "cylinder")

@@ -12,6 +12,8 @@ from validation.commands import build_parser, main
 from validation.commands.run import prepare, simulate
 from validation.harness.backends import make_model
 
+from ...conftest import assert_same_series, series_frames
+
 FIELDS = {"G11", "G12", "G22", "B11", "B12", "B22", "speed", "energy_density", "displacement"}
 
 
@@ -194,23 +196,6 @@ def test_under_the_papers_force_a_backend_picks_its_own_step_where_the_scenes_is
 
 
 # -- reproducible runs (issue 16, point 2) -------------------------------------------------------------
-def _frames(xdmf):
-    """(t, points, point data) of every frame of a series."""
-    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as reader:
-        points, _ = reader.read_points_cells()
-        return [(t, points, data) for t, data, _ in (reader.read_data(k) for k in range(reader.num_steps))]
-
-
-def _assert_same_series(a, b):
-    fa, fb = _frames(a), _frames(b)
-    assert len(fa) == len(fb) > 1
-    for (ta, pa, da), (tb, pb, db) in zip(fa, fb):
-        assert ta == tb and set(da) == set(db)
-        np.testing.assert_array_equal(pa, pb)
-        for name in da:
-            np.testing.assert_array_equal(da[name], db[name], err_msg=f"{name} at t = {ta}")
-
-
 @pytest.mark.parametrize("backend", ["fd", "fe"])
 def test_rerunning_the_resolved_config_reproduces_the_run_bit_for_bit(backend, tmp_path, capsys):
     first, again = tmp_path / "first", tmp_path / "again"
@@ -225,7 +210,7 @@ def test_rerunning_the_resolved_config_reproduces_the_run_bit_for_bit(backend, t
     code, out, err = _run([first / "hanging.toml", "--out", again], capsys)
     assert code == 0, err
     assert f"{backend}, newmark" in out
-    _assert_same_series(first / "hanging.xdmf", again / "hanging.xdmf")
+    assert_same_series(first / "hanging.xdmf", again / "hanging.xdmf")
     assert (again / "hanging.toml").read_text() == text
 
 
@@ -251,8 +236,8 @@ def test_a_resumed_run_continues_the_same_series_frame_by_frame(model, end, tmp_
     code, _, err = _run(base + [*end, "--resume", part / "curtain-checkpoint-0000003.npz"], capsys)
     assert code == 0, err
     assert sorted(p.name for p in part.glob("*.xdmf")) == ["curtain.xdmf"]
-    _assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
-    _assert_same_series(full / "curtain.xdmf", other / "curtain.xdmf")
+    assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
+    assert_same_series(full / "curtain.xdmf", other / "curtain.xdmf")
 
 
 # -- output (issue 16, point 3) ------------------------------------------------------------------------
@@ -265,7 +250,7 @@ def test_frames_every_so_many_simulated_seconds_at_exact_times(tmp_path, capsys)
                              "--out", out], capsys)
         assert code == 0, err
         dt = scenes.read_toml(out / "hanging.toml").dt
-        times[backend] = [t for t, _, _ in _frames(out / "hanging.xdmf")]
+        times[backend] = [t for t, _, _ in series_frames(out / "hanging.xdmf")]
         targets = [0.0, 0.025, 0.05, 0.075, 0.1]
         assert len(times[backend]) == len(targets)
         assert all(0 <= t - g < dt for t, g in zip(times[backend], targets))
@@ -285,7 +270,7 @@ def test_the_output_api_is_public_and_creates_its_folders(tmp_path):
 
 # -- command-line polish (issue 16, point 6) -----------------------------------------------------------
 def test_every_option_of_every_command_states_its_default():
-    from validation.commands import _Help
+    from validation.commands import HelpFormatter
 
     parser = build_parser()
     subs = next(a for a in parser._actions if a.dest == "command").choices
@@ -293,7 +278,7 @@ def test_every_option_of_every_command_states_its_default():
     for name, sub in {"deformable": parser, **subs}.items():
         for action in sub._actions:
             if action.option_strings and action.nargs != 0:
-                if "default" not in _Help(name)._get_help_string(action):
+                if "default" not in HelpFormatter(name)._get_help_string(action):
                     missing.append(f"{name} {action.option_strings[-1]}")
     assert set(subs) == {"run", "check", "validate", "bench", "sweep"} and missing == [], missing
 

@@ -151,7 +151,7 @@ def _draw(plotter, pts, ylim, label, lines, font_size):
 
 
 def _pyvista():
-    from deformable.io.render import _pyvista as pyvista
+    from deformable.io.render import offscreen_pyvista as pyvista
 
     return pyvista()
 
