@@ -7,7 +7,7 @@ import pytest
 
 import deformable as dm
 from validation.commands import main
-from validation.commands.bench import SEMI_IMPLICIT_DT, _model
+from validation.benches import SEMI_IMPLICIT_DT, hanging_model
 
 
 def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
@@ -78,7 +78,7 @@ def test_scene_rows_run_shipped_scenes_for_their_time(tmp_path, capsys):
 def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     """The bench's hanging scene at its dt runs 200 guarded steps without divergence. FE's bound is about a
     fifth of FD's: on 12 x 12 nodes already below the scene's dt, so FE gets its own step."""
-    model, dt = _model(backend, 12)
+    model, dt = hanging_model(backend, 12)
     assert dt <= 0.5 * model.stable_step()
     assert (SEMI_IMPLICIT_DT > model.stable_step()) == (backend == "fe")
     result = dm.TimeStepper(model, dt).run(model.initial_state(), steps=200)

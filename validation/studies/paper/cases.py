@@ -21,10 +21,10 @@ from deformable.dynamics.stepper import round_down
 from validation.harness.backends import make_model
 from validation.harness.surfaces import cylinder
 
-from . import damping, folds
+from . import damping
 
 __all__ = ["Case", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields",
-           "paper_config", "PAPER", "RUNAWAY_G", "VISIBLE",
+           "paper_config", "PAPER", "RUNAWAY_G", "VISIBLE", "ROWS", "SAMPLES", "SAMPLE_EVERY",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
            "FOLD_SCENES", "scene_cases", "shipped_dt"]
 
@@ -49,6 +49,12 @@ def paper_config(scene: str, **fields_) -> "scenes.SceneConfig":
     return scenes.config(scene, **{**PAPER[scene], **fields_})
 
 
+#: heights of the measured rows, as fractions of the curtain's height from the hem
+ROWS = tuple(np.round(np.linspace(0.3, 0.9, 7), 3))
+#: sample points per grid spacing along a row
+SAMPLES = 4
+#: the fold measure is taken every this many seconds of simulated time
+SAMPLE_EVERY = 0.1
 #: a run whose largest G_ii exceeds this has a fibre stretched to more than twice its length
 RUNAWAY_G = 4.0
 #: the relative change of a trajectory that counts as "visible" (1 % of the motion)
@@ -215,7 +221,7 @@ def shipped_dt(cfg, model) -> float:
 def _run_shipped(case: Case) -> dict:
     """A shipped scene (:func:`deformable.scenes.config`, not the paper's overrides), recorded for section 5.
 
-    Every ``folds.SAMPLE_EVERY`` s: y along the fold rows (curtain scenes; ``folds.ROWS``, ``folds.SAMPLES`` points
+    Every ``SAMPLE_EVERY`` s: y along the fold rows (curtain scenes; ``ROWS``, ``SAMPLES`` points
     a grid spacing). Every step, for the flag: y along the middle row. At ``case.times``: the surface for a
     picture; with ``case.every`` > 0: a frame for the animation every ``case.every`` steps.
     """
@@ -224,10 +230,10 @@ def _run_shipped(case: Case) -> dict:
     dt = shipped_dt(cfg, model)
     stepper = dm.TimeStepper(model, dt)
     L1, L2 = cfg.size
-    a1 = np.linspace(0.0, L1, folds.SAMPLES * (case.nodes - 1) + 1)
-    heights = np.array(folds.ROWS if case.scene in FOLD_SCENES else (0.5,)) * L2
+    a1 = np.linspace(0.0, L1, SAMPLES * (case.nodes - 1) + 1)
+    heights = np.array(ROWS if case.scene in FOLD_SCENES else (0.5,)) * L2
     where = np.stack(np.meshgrid(a1, heights, indexing="ij"), axis=-1).reshape(-1, 2)
-    sample_every = max(1, int(round(folds.SAMPLE_EVERY / dt)))
+    sample_every = max(1, int(round(SAMPLE_EVERY / dt)))
     rec = dict(G=1.0, rows=[], t=[], line=[], line_t=[], renders={}, frames=[])
     pending = sorted(case.times)
 

@@ -31,6 +31,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .analysis import classify
+from .cases import scene_grids
+from .claims import Claim, checks_of
+from .pictures import panels_figure
+
 __all__ = ["AMPLITUDE_FLOOR", "driving_component", "phase_along", "PhaseProfile", "window", "run_phase", "measure"]
 
 #: sample points whose driving amplitude is below this fraction of the row's largest are left out of the phase
@@ -122,10 +127,6 @@ def measure(res, R: dict, s: dict) -> list:
     from validation.harness.backends import BACKENDS
     from validation.harness.study import Figure, Table
 
-    from .analysis import classify
-    from .cases import scene_grids
-    from .claims import Claim, checks_of
-    from .pictures import panels_figure
 
     n = dict(zip(BACKENDS, scene_grids(s, "flag")))
     P, rows = {}, []

@@ -47,19 +47,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .analysis import classify
+from .cases import ROWS, SAMPLE_EVERY, SAMPLES, grid_label, scene_grids
+from .claims import Claim, checks_of
+from .pictures import panels_figure
+
 __all__ = ["ROWS", "SAMPLES", "DELTA_FRACTION", "DELTA_MIN", "SAMPLE_EVERY", "LATE", "extrema", "RowFolds",
            "row_folds", "snapshot_folds", "fold_series", "late_folds", "power_fit"]
 
-#: heights of the measured rows, as fractions of the curtain's height from the hem
-ROWS = tuple(np.round(np.linspace(0.3, 0.9, 7), 3))
-#: sample points per grid spacing along a row
-SAMPLES = 4
 #: hysteresis: a fold must rise (fall) by this fraction of the row's peak-to-peak ...
 DELTA_FRACTION = 0.1
 #: ... and by at least this much (m): above the peak-to-peak of the scenes' seeded ripple (1 mm RMS)
 DELTA_MIN = 6e-3
-#: the fold measure is taken every this many seconds of simulated time
-SAMPLE_EVERY = 0.1
 #: a run's count and width are the medians over its last LATE seconds
 LATE = 0.4
 
@@ -218,10 +217,6 @@ def measure(res, R: dict, s: dict) -> list:
     from validation.harness.backends import BACKENDS
     from validation.harness.study import Table
 
-    from .analysis import classify
-    from .cases import grid_label, scene_grids
-    from .claims import Claim, checks_of
-    from .pictures import panels_figure
 
     def grid(b):
         return grid_label(b, dict(zip(BACKENDS, scene_grids(s, "curtain")))[b])

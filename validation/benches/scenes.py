@@ -1,0 +1,76 @@
+r"""The scene rows of ``deformable bench`` (opt-in: ``--scenes``): shipped scenes run for seconds of motion.
+
+Shipped scenes as they ship (the energy-consistent model, implicit Euler at
+the scene's dt) run for ``--scene-time`` seconds of motion from their
+initial state on FD ``--scene-fd`` nodes and FE ``--scene-fe`` elements a
+side: the wall time, steps, Newton iterations, factorisations and definite
+fallbacks per step (unknowns: every degree of freedom, held ones too, as in
+the contact rows). They measure what the 2 s budgets of the scenes and the
+iterations per step of a whole run are about, where the implicit rows time a
+few steps.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from deformable import scenes
+from deformable.dynamics import TimeStepper
+from validation.harness.backends import make_model
+from validation.harness.report import markdown_table
+
+from .measure import grid_label, peak_memory, scene_config
+
+__all__ = ["SceneRow", "bench_scene", "format_scenes"]
+
+
+@dataclass(frozen=True)
+class SceneRow:
+    """One scene line: a shipped scene run from its initial state; times in seconds, memory in MB."""
+
+    scene: str
+    backend: str
+    grid: str
+    unknowns: int
+    dt: float
+    t_end: float
+    status: str
+    t_reached: float
+    steps: int
+    wall: float
+    newton_per_step: float
+    factorisations_per_step: float
+    fallbacks_per_step: float
+    peak_mb: float
+
+
+def bench_scene(scene: str, backend: str, n: int, t_end: float, solver: str = "auto") -> SceneRow:
+    """Run a shipped scene (energy-consistent, implicit Euler at its own dt, as every scene ships) for t_end seconds
+    on n nodes (FD) or n elements (FE) a side."""
+    cfg = scene_config(scene, backend, n)
+    model = make_model(scenes.build(cfg), backend)
+    stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
+    t0 = time.perf_counter()
+    result = stepper.run(model.initial_state(), t_end=t_end)
+    wall = time.perf_counter() - t0
+    reports = stepper.newton_reports
+
+    def per_step(name):
+        return float(np.mean([getattr(r, name) for r in reports]))
+
+    return SceneRow(scene, backend, f"{n}x{n}", 3 * model.ndof, cfg.dt, t_end, result.status, result.state.t,
+                    result.steps, wall, per_step("iterations"), per_step("factorisations"), per_step("fallbacks"),
+                    peak_memory())
+
+
+def format_scenes(rows) -> str:
+    """A markdown table of scene rows."""
+    return markdown_table(
+        ("scene", "backend", "grid", "unknowns", "dt (ms)", "status", "t reached (s)", "steps", "wall (s)",
+         "Newton / step", "factorisations / step", "definite fallbacks / step", "peak MB"),
+        [(r.scene, r.backend, grid_label(r), r.unknowns, f"{1e3 * r.dt:g}", r.status, f"{r.t_reached:g}", r.steps,
+          f"{r.wall:.1f}", f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
+          f"{r.fallbacks_per_step:.2f}", f"{r.peak_mb:.0f}") for r in rows])
