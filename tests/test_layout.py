@@ -1,11 +1,34 @@
-"""The package's layout (docs/design.md, "Layout"): no import cycle, one door from above to the backends."""
+"""The house's layout (docs/design.md, "The map"): no import cycle anywhere, the wings of the core in their order,
+one door from above to the backends, and the rules that keep the inner walls where they are.
+
+Every check reads the source (``ast``), function-level imports included: an import inside a function is an
+arrow like any other.
+"""
 
 import ast
 import collections
+import re
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("deformable", "fdmodel", "femodel", "validation")
+#: the core's floors, bottom up: a module may import its own floor's and the floors below, never above
+FLOORS = (
+    ("deformable.errors",),
+    ("deformable.checks", "deformable.registry", "deformable.limits", "deformable.tomlio"),
+    ("deformable.geometry",),
+    ("deformable.algebra",),
+    ("deformable.physics",),
+    ("deformable.contact",),
+    ("deformable.scene",),
+    ("deformable.backends",),
+    ("deformable.solve",),
+    ("deformable.dynamics",),
+    ("deformable.scenes",),
+    ("deformable.io",),
+)
 
 
 def modules() -> dict[str, Path]:
@@ -18,32 +41,49 @@ def modules() -> dict[str, Path]:
     return out
 
 
-def import_graph(everywhere: bool = False) -> dict[str, set[str]]:
-    """Imports between the modules: module-level ones (or also those inside functions, ``everywhere``);
-    ``from . import sub`` is an edge to the submodule."""
-    mods = modules()
-    graph = collections.defaultdict(set)
-    for name, path in mods.items():
-        package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
-        tree = ast.parse(path.read_text())
-        for node in ast.walk(tree) if everywhere else tree.body:
-            if isinstance(node, ast.Import):
-                targets = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                base = node.module or ""
-                if node.level:
-                    parts = package.split(".")
-                    base = ".".join(parts[:len(parts) - node.level + 1] + ([base] if base else []))
-                subs = [f"{base}.{a.name}" for a in node.names if f"{base}.{a.name}" in mods]
-                targets = subs if len(subs) == len(node.names) else [base, *subs]
+def trees() -> dict[str, ast.Module]:
+    return {name: ast.parse(path.read_text()) for name, path in modules().items()}
+
+
+def imports(name: str, tree: ast.Module, mods) -> list[tuple[str, list[str]]]:
+    """(imported module, names taken) of every import of a module, wherever it stands (functions included)."""
+    path = mods[name]
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(a.name, []) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")
+                base = ".".join(parts[:len(parts) - node.level + 1] + ([base] if base else []))
+            subs = [f"{base}.{a.name}" for a in node.names if f"{base}.{a.name}" in mods]
+            if len(subs) == len(node.names):
+                out += [(s, []) for s in subs]
             else:
-                continue
-            graph[name] |= {t for t in targets if t in mods and t != name}
-    return graph
+                out.append((base, [a.name for a in node.names]))
+    return out
 
 
-def test_there_is_no_import_cycle():
-    graph, state, stack, cycles = import_graph(), {}, [], []
+@pytest.fixture(scope="module")
+def graph():
+    """Imports between the modules of the four packages: module -> set of modules (function-level included)."""
+    mods, out = modules(), collections.defaultdict(set)
+    for name, tree in trees().items():
+        out[name] |= {t for t, _ in imports(name, tree, mods) if t in mods and t != name}
+    return out
+
+
+def floor(module: str) -> int | None:
+    for k, names in enumerate(FLOORS):
+        if any(module == n or module.startswith(n + ".") for n in names):
+            return k
+    return None
+
+
+def test_there_is_no_import_cycle_anywhere(graph):
+    state, stack, cycles = {}, [], []
 
     def visit(u):
         state[u] = "open"
@@ -61,11 +101,94 @@ def test_there_is_no_import_cycle():
     for m in sorted(modules()):
         if m not in state:
             visit(m)
-    assert len(state) > 50 and cycles == []
+    assert len(state) > 100 and cycles == []
 
 
-def test_above_the_backends_exactly_one_module_imports_them():
-    graph = import_graph(everywhere=True)  # the one door imports them lazily, inside make_model
+def test_the_cores_wings_import_only_their_own_floor_and_below(graph):
+    core = [m for m in modules() if m.startswith("deformable.")]
+    unplaced = [m for m in core if floor(m) is None]
+    assert unplaced == [], f"modules on no floor of the map: {unplaced}"
+    upward = [f"{m} -> {d}" for m in core for d in sorted(graph[m]) if d.startswith("deformable.")
+              and floor(d) > floor(m)]
+    assert upward == []
+    outside = [f"{m} -> {d}" for m in core for d in sorted(graph[m]) if not d.startswith("deformable")]
+    assert outside == [], "the core imports nothing of the backends or the harness"
+
+
+def test_above_the_backends_exactly_one_module_imports_them(graph):
     above = {name for name, deps in graph.items() if not name.startswith(("fdmodel", "femodel"))
              and any(d.split(".")[0] in ("fdmodel", "femodel") for d in deps)}
     assert above == {"validation.harness.backends"}
+    assert not any(d.split(".")[0] == "femodel" for m, deps in graph.items() if m.startswith("fdmodel") for d in deps)
+    assert not any(d.split(".")[0] == "fdmodel" for m, deps in graph.items() if m.startswith("femodel") for d in deps)
+
+
+def test_newton_and_its_line_searches_import_no_contact(graph):
+    for module in ("deformable.solve.newton", "deformable.solve.search"):
+        assert not [d for d in graph[module] if d.startswith("deformable.contact")]
+
+
+def test_no_file_in_the_core_is_over_500_lines():
+    long = {name: n for name, path in modules().items() if name.startswith("deformable")
+            and (n := len(path.read_text().splitlines())) > 500}
+    assert long == {}
+
+
+def _literals(tree) -> list[str]:
+    return [n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)]
+
+
+def test_the_core_names_no_backend():
+    found = {name: [v for v in _literals(tree) if v in ("fd", "fe")] for name, tree in trees().items()
+             if name.startswith("deformable")}
+    assert {k: v for k, v in found.items() if v} == {}
+
+
+def _force_model_comparisons(tree) -> int:
+    """Comparisons of something called force_model with a string literal (==, !=, in / not in a tuple of them)."""
+    def named(node):
+        return (isinstance(node, ast.Name) and node.id == "force_model") or (
+            isinstance(node, ast.Attribute) and node.attr == "force_model")
+
+    def literal(node):
+        return (isinstance(node, ast.Constant) and isinstance(node.value, str)) or (
+            isinstance(node, (ast.Tuple, ast.List, ast.Set)) and node.elts and all(literal(e) for e in node.elts))
+
+    count = 0
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Compare):
+            sides = [node.left, *node.comparators]
+            if any(named(s) for s in sides) and any(literal(s) for s in sides):
+                count += 1
+    return count
+
+
+def test_force_models_are_asked_not_compared_with_names():
+    counts = {name: n for name, tree in trees().items()
+              if not name.startswith("deformable.physics.force_models") and (n := _force_model_comparisons(tree))}
+    assert sum(counts.values()) <= 3, counts
+
+
+def test_no_private_name_is_imported_across_modules():
+    mods, found = modules(), []
+    for name, tree in trees().items():
+        for target, names in imports(name, tree, mods):
+            found += [f"{name}: {target}.{n}" for n in names if n.startswith("_") and not n.startswith("__")]
+    assert found == []
+
+
+def test_every_exception_and_warning_of_the_core_is_in_the_error_module():
+    errors = ast.parse((ROOT / "deformable" / "errors.py").read_text())
+    known = {n.name for n in errors.body if isinstance(n, ast.ClassDef)}
+    kinds = re.compile(r"(Error|Exception|Warning|Rejected|Matrix)$")
+    stray = []
+    for name, tree in trees().items():
+        if not name.startswith("deformable") or name == "deformable.errors":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ClassDef):
+                bases = {getattr(b, "id", getattr(b, "attr", "")) for b in node.bases}
+                if bases & (known | {"Exception", "ValueError", "RuntimeError", "UserWarning", "ArithmeticError",
+                                     "OSError", "Warning"}) or kinds.search(node.name):
+                    stray.append(f"{name}.{node.name}")
+    assert stray == [] and len(known) >= 14
