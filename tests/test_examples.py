@@ -56,6 +56,19 @@ def test_custom_scene(out):
     png(out / "custom_scene.png")
 
 
+def test_custom_energy(out):
+    text = run_example("custom_energy", out)
+    for backend in ("FD", "FE"):
+        assert number(rf"{backend}: gradient error ([\d.e+-]+)", text) < 1e-6, "the exact gradient of its energy"
+    drops = {b: (number(rf"{b} \d+x\d+ nodes: the hem hangs ([\d.]+) mm lower \(saturating\)", text),
+                 number(rf"{b} \d+x\d+ nodes: .* against ([\d.]+) mm \(eq. 13\)", text)) for b in ("FD", "FE")}
+    for b, (saturating, eq13) in drops.items():
+        assert saturating > eq13 > 0, f"{b}: a membrane whose tension saturates lets the cloth hang lower"
+    assert abs(drops["FD"][0] - drops["FE"][0]) < 0.05 * drops["FE"][0], "FD and FE agree on the new energy"
+    assert text.count("finished (saturating), finished (eq. 13)") == 2
+    png(out / "custom_energy.png")
+
+
 def test_fd_vs_fe(out):
     text = run_example("fd_vs_fe", out)
     assert text.count("finished") == 2
