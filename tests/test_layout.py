@@ -7,6 +7,7 @@ arrow like any other.
 
 import ast
 import collections
+import functools
 import re
 from pathlib import Path
 
@@ -31,6 +32,7 @@ FLOORS = (
 )
 
 
+@functools.cache
 def modules() -> dict[str, Path]:
     """Every module of the four packages by import name."""
     out = {}
@@ -41,7 +43,9 @@ def modules() -> dict[str, Path]:
     return out
 
 
+@functools.cache
 def trees() -> dict[str, ast.Module]:
+    """Every module's syntax tree (parsed once for all the checks)."""
     return {name: ast.parse(path.read_text()) for name, path in modules().items()}
 
 

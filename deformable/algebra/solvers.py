@@ -136,6 +136,9 @@ class Pardiso:
 
         self.definite = definite
         self._solver = s = pypardiso.PyPardisoSolver(mtype=2 if definite else -2)
+        # pypardiso looks for MKL by a recursive glob of the environment at every construction (0.2-0.25 s
+        # measured here, per model and stepper); its variable PYPARDISO_MKL_RT skips the search: the library found
+        os.environ.setdefault("PYPARDISO_MKL_RT", s.libmkl._name)
         # MKL's defaults, but bit-identical whatever the number of MKL threads (fixed when MKL starts, from
         # OMP_NUM_THREADS / MKL_NUM_THREADS: 1 on Dask's workers): conditional numerical reproducibility
         # (iparm[33] > 0) with the sequential METIS ordering (iparm[1] = 2; the parallel one rules CNR out)
