@@ -1,15 +1,31 @@
 """deformable: the Terzopoulos et al. (1987) elastic-surface model, shared by two discretisations.
 
-This package holds what both backends discretise: the sheet, material,
-forces, constraints and scene, the tensors of eq. (4)-(8) and the elastic law
-of eq. (13)-(15), the backend contract, fixed-pattern sparse assembly, the time
-stepping of eq. (22)-(27) and the implicit schemes, static equilibrium, the
-paper's compatibility test and scenes, rigid obstacles and contact
-(:mod:`deformable.contact`; the obstacle plane is ``deformable.HalfSpace``), and the output of runs (an XDMF
-series for ParaView, frames rendered from it, checkpoints). The backends are ``fdmodel.FDModel``
-(finite differences) and ``femodel.FEModel`` (finite elements); the validation
-harness and the command line live in ``validation``. The design is in
-docs/design.md.
+This package holds what both backends discretise, a wing per job, each
+importing only the wings below it (docs/design.md, "The map"):
+
+- :mod:`deformable.errors` (every exception and warning) and the ground floor:
+  :mod:`deformable.checks`, :mod:`deformable.registry` (the one registry of every
+  extension point), :mod:`deformable.limits`, :mod:`deformable.tomlio`;
+- :mod:`deformable.geometry`: the tensors of eq. (4)-(8), surfaces, the sheet,
+  the paper's compatibility test (section 3.2);
+- :mod:`deformable.algebra`: sparse patterns, assembly and solvers;
+- :mod:`deformable.physics`: material, the force models (eq. (13)-(15) and any
+  energy density one adds, :class:`ForceModel`), forces and loads;
+- :mod:`deformable.contact`: rigid obstacles and the barrier;
+- :mod:`deformable.scene`: a :class:`Scene` and its constraints;
+- :mod:`deformable.backends`: the contract both discretisations satisfy and
+  their registry;
+- :mod:`deformable.solve`: Newton's method, its line searches, equilibrium;
+- :mod:`deformable.dynamics`: the time stepping of eq. (22)-(27) and the
+  implicit schemes, under one controller;
+- :mod:`deformable.scenes`: the catalogue of the paper's scenes (section 5) and
+  scene files;
+- :mod:`deformable.io`: the output of runs (an XDMF series for ParaView,
+  frames rendered from it, checkpoints).
+
+The backends are ``fdmodel.FDModel`` (finite differences) and
+``femodel.FEModel`` (finite elements); the validation harness and the command
+line live in ``validation``.
 """
 
 import warnings
@@ -68,17 +84,15 @@ from .solve.equilibrium import equilibrium
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy", "Sample",
-    "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
-    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface",
-    "DivergenceError", "StalledError", "RunResult", "State", "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric",
-    "normal", "Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__",
-    "DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
-    "NumericalError", "XDMFWriter", "read_series", "render_series", "render_frame", "CheckpointWriter",
-    "save_checkpoint", "load_checkpoint", "RunFolder",
-    "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder",
-]
+__all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
+    "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "Gravity",
+    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel",
+    "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface", "DivergenceError", "StalledError", "RunResult", "State",
+    "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric", "normal", "Callback", "DivergenceGuard",
+    "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",
+    "CheckpointError", "OutputFolderError", "ResourceError", "WriteError", "NumericalError", "XDMFWriter",
+    "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
+    "RunFolder", "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)
 _FORMER = {"FORCE_MODELS": (lambda: ForceModel.names(), "deformable.ForceModel.names()")}

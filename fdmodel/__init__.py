@@ -17,5 +17,5 @@ from .model import WEIGHTINGS, FDModel
 from .operators import node_derivatives, node_tensors, operators
 from .strength import StrengthMatrix
 
-__all__ = ["FDModel", "FiniteDifferences", "WEIGHTINGS", "node_derivatives", "node_tensors", "operators", "StrengthMatrix",
-           "DiscreteEnergy"]
+__all__ = ["FDModel", "FiniteDifferences", "WEIGHTINGS", "node_derivatives", "node_tensors", "operators",
+           "StrengthMatrix", "DiscreteEnergy"]

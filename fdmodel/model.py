@@ -62,6 +62,7 @@ from deformable.physics.energy import Energy, kinetic_energy
 from deformable.physics.force_models import EnergyModel, QuadraticEnergy
 from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, DensityIntegrand, Integrand
 from deformable.physics.loads import Loads
+from deformable.physics.material import TENSORS
 from deformable.scene.constraints import Clamp, hold
 from deformable.scene.scene import Scene
 
@@ -166,7 +167,7 @@ class FDModel:
         self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
                                               *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
         #: the Material's tensor fields on the node grid, (2, 2, M, N) each
-        self.fields = {name: mat.tensor(name, (M, N)) for name in ("eta", "xi", "alpha", "beta")}
+        self.fields = {name: mat.tensor(name, (M, N)) for name in TENSORS}
         self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         if self.linear:
             self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)

@@ -17,5 +17,5 @@ from .hermite import basis, cubic_hermite
 from .model import ELEMENTS, GAUSS_POINTS, FEModel
 from .strength import StrengthMatrix, bending, mass, membrane
 
-__all__ = ["FEModel", "FiniteElements", "ELEMENTS", "GAUSS_POINTS", "StrengthMatrix", "membrane", "bending", "mass", "basis",
-           "cubic_hermite", "DiscreteEnergy"]
+__all__ = ["FEModel", "FiniteElements", "ELEMENTS", "GAUSS_POINTS", "StrengthMatrix", "membrane", "bending", "mass",
+           "basis", "cubic_hermite", "DiscreteEnergy"]

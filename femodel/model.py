@@ -97,6 +97,7 @@ from deformable.physics.energy import Energy, kinetic_energy
 from deformable.physics.force_models import EnergyModel, QuadraticEnergy
 from deformable.physics.integrand import FE_SLOTS, DensityIntegrand, Integrand, slot_tensors
 from deformable.physics.loads import Loads
+from deformable.physics.material import TENSORS
 from deformable.scene.constraints import hold
 from deformable.scene.scene import Scene
 
@@ -173,7 +174,7 @@ class FEModel:
         self._scatter = element_vectors(self.ldofs, self.ndof)  # element load vectors (E 16) -> (ndof)
 
         #: the Material's tensor fields at the Gauss points, (2, 2, E, nq) each
-        self.fields = {name: self.to_quadrature(mat.tensor(name, (M, N))) for name in ("eta", "xi", "alpha", "beta")}
+        self.fields = {name: self.to_quadrature(mat.tensor(name, (M, N))) for name in TENSORS}
         self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # rest state at the Gauss points: the discretised rest shape, or the scene's overrides
         if self.linear:

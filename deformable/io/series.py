@@ -59,6 +59,7 @@ from ..checks import count, real
 from ..dynamics.trackers import Tracker
 from ..errors import InputError, WriteError
 from ..limits import DATASET_BYTES, check_room
+from ..physics.material import TENSORS
 
 __all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time"]
 
@@ -84,7 +85,7 @@ class NodeFields:
         G0, B0 = scene.rest_tensors(a1.ravel(), a2.ravel(), _components_first(rest.G), _components_first(rest.B))
         self.G0, self.B0 = G0, B0  # (2, 2, P)
         mat = scene.material
-        self.fields = {name: mat.tensor(name, (M, N)).reshape(2, 2, -1) for name in ("eta", "xi", "alpha", "beta")}
+        self.fields = {name: mat.tensor(name, (M, N)).reshape(2, 2, -1) for name in TENSORS}
         # quads of the node grid, counter-clockwise in (a1, a2)
         idx = np.arange(M * N).reshape(M, N)
         self.cells = np.column_stack([idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(),

@@ -29,9 +29,10 @@ import numpy as np
 from ..checks import finite_array
 from ..errors import InputError
 
-__all__ = ["Material"]
+__all__ = ["Material", "TENSORS"]
 
-_TENSORS = ("eta", "xi", "alpha", "beta")
+#: the weight tensors of eq. (13) and (15) (a force model reads them at the backend's points)
+TENSORS = ("eta", "xi", "alpha", "beta")
 _FIELDS = ("mu", "gamma")
 
 
@@ -57,7 +58,7 @@ class Material:
     beta: float | np.ndarray | None = None
 
     def __post_init__(self):
-        for name in _FIELDS + _TENSORS:
+        for name in _FIELDS + TENSORS:
             value = getattr(self, name)
             if value is None and name in ("alpha", "beta"):
                 continue
@@ -79,7 +80,7 @@ class Material:
             if np.any(w < 0):
                 raise InputError(f"Material.{name} must be non-negative (a weight of the energy (13)), got "
                                  f"{np.min(w)!r}", field=f"Material.{name}", value=getattr(self, name))
-        for name in _TENSORS:
+        for name in TENSORS:
             w = getattr(self, name)
             if w is None:
                 continue
@@ -122,7 +123,7 @@ class Material:
         """Raise ValueError if any per-node array does not fit a node grid of shape ``nodes``."""
         for name in _FIELDS:
             self.field(name, nodes)
-        for name in _TENSORS:
+        for name in TENSORS:
             self.tensor(name, nodes)
 
     def replace(self, **changes) -> Material:

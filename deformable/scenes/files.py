@@ -1,4 +1,4 @@
-r"""Scene files: a scene config as TOML, read and written through the project's one round trip (:mod:`deformable.tomlio`).
+r"""Scene files: a scene config as TOML, read and written through the one round trip, :mod:`deformable.tomlio`.
 
 A scene file names its scene and overrides fields of its config::
 

@@ -43,6 +43,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...registry import Registered
+from ..material import TENSORS
 
 __all__ = ["ForceModel", "StrengthModel", "EnergyModel", "RESIDUALS", "energy_density"]
 
@@ -141,6 +142,11 @@ class ForceModel(Registered, family="force model"):
     # -- what a scene asks -----------------------------------------------------------
     def check(self, material) -> None:
         """InputError when ``material`` lacks what this model needs (naming the field); nothing by default."""
+        for name in getattr(self, "fields", ()):
+            if name not in TENSORS:
+                raise InputError(f"force model {self.name!r} reads the Material field {name!r}; the tensor fields "
+                                 f"are {', '.join(TENSORS)}", field=f"{type(self).__name__}.fields",
+                                 value=name)
 
     def free_modes(self, material) -> list[str]:
         """Deformations that cost no energy with ``material`` (Scene warns ``IllPosedScene``); none by default."""
