@@ -11,6 +11,8 @@ by its reader with :func:`deformable.checks.known_keys`.
 
 from __future__ import annotations
 
+import os
+import stat
 import tomllib
 from pathlib import Path
 
@@ -18,7 +20,11 @@ import tomli_w
 
 from .errors import InputError
 
-__all__ = ["loads", "load", "dumps"]
+__all__ = ["loads", "load", "dumps", "read_text"]
+
+#: what a path that is not a regular file is, by its stat's file type
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe"), (stat.S_ISCHR, "a device"),
+          (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket"))
 
 
 def loads(text: str, source: str = "<string>") -> dict:
@@ -29,14 +35,28 @@ def loads(text: str, source: str = "<string>") -> dict:
         raise InputError(f"scene file {source!r} is not valid TOML: {err}", field="file", value=source) from None
 
 
-def load(path) -> tuple[dict, str]:
-    """The table of the TOML file ``path`` and its text; InputError naming the file when it cannot be read."""
+def read_text(path, what: str = "scene file", field: str = "file") -> str:
+    """The text of the regular file ``path``; InputError naming it when it cannot be read.
+
+    A path that is not a regular file (a named pipe, a device, a folder) is refused before it is opened:
+    reading a pipe would wait for a writer for ever.
+    """
     path = Path(path)
     try:
-        text = path.read_text()
+        mode = os.stat(path).st_mode
+        kind = next((name for test, name in _KINDS if test(mode)), None)
+        if kind is not None:
+            raise InputError(f"cannot read {what} {str(path)!r}: it is {kind}, not a regular file", field=field,
+                             value=str(path))
+        return path.read_text()
     except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"cannot read scene file {str(path)!r}: {getattr(err, 'strerror', None) or err}",
-                         field="file", value=str(path)) from None
+        raise InputError(f"cannot read {what} {str(path)!r}: {getattr(err, 'strerror', None) or err}",
+                         field=field, value=str(path)) from None
+
+
+def load(path) -> tuple[dict, str]:
+    """The table of the TOML file ``path`` and its text; InputError naming the file when it cannot be read."""
+    text = read_text(path)
     return loads(text, str(path)), text
 
 

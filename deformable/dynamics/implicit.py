@@ -53,6 +53,7 @@ from typing import ClassVar
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from ..checks import real
 from ..errors import ConvergenceError, DivergenceError, StepRejected
 from ..solve.newton import Newton, NewtonSettings
 from ..solve.potential import FlatEnergy, flat, unflat
@@ -112,6 +113,14 @@ class Implicit(Scheme):
     def update(self, x, xn, vn, xhat, dt: float):
         """The velocity and acceleration (flat) at the step's end x."""
         raise NotImplementedError
+
+    def memory(self) -> dict:
+        """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from."""
+        return {"newton_floor": self.newton._floor}
+
+    def restore(self, memory: dict) -> None:
+        if "newton_floor" in memory:
+            self.newton._floor = real("memory.newton_floor", memory["newton_floor"], non_negative=True)
 
     # -- the step --------------------------------------------------------------------
     def acceleration(self, state) -> np.ndarray:

@@ -58,3 +58,13 @@ class Scheme(Registered, family="scheme"):
     def step(self, state, X0, dt=None):
         """The state at t + dt (``X0``: the run's constraint reference)."""
         raise NotImplementedError
+
+    def memory(self) -> dict:
+        """What the scheme carries from one step to the next besides the state, as numbers (name -> number).
+
+        A checkpoint keeps it, so that a resumed run is the same run; none by default.
+        """
+        return {}
+
+    def restore(self, memory: dict) -> None:
+        """Take up :meth:`memory` of another instance (the controller has checked its keys)."""

@@ -46,12 +46,13 @@ from __future__ import annotations
 import logging
 import time
 import warnings
+from array import array
 from typing import Iterator, Sequence
 
 import numpy as np
 
 from ..algebra.solvers import one_blas_thread
-from ..checks import count, real
+from ..checks import count, known_keys, real
 from ..errors import DivergenceError, InputError, ResourceError, StalledError, StepRejected
 from ..physics.force_models import stretching_step
 from .implicit_euler import ImplicitEuler
@@ -154,6 +155,7 @@ class TimeStepper:
             raise InputError(f"dt_min must be a positive number not above dt = {self.dt:g} s, got {dt_min!r}")
         self.dt_min, self.dt_now, self.rejected = float(dt_min), self.dt, 0
         self._accepted = 0
+        self._taken = array("d")  # the length of each step taken (s)
         self._scheme = kind(model, self.dt, newton=newton, solver=solver)
 
     def _resolve_dt(self, dt) -> float:
@@ -198,6 +200,50 @@ class TimeStepper:
         """Newton iterations and residuals per accepted step of the implicit schemes (empty for the semi-implicit one)."""
         return getattr(self._scheme, "reports", [])
 
+    @property
+    def adaptive(self) -> bool:
+        """Whether the scheme adapts its step (the implicit ones: module docstring)."""
+        return self._scheme.adaptive
+
+    @property
+    def steps_taken(self) -> np.ndarray:
+        """The length (s) of each step this stepper has taken, in order, (steps,): what an adaptive run took."""
+        return np.frombuffer(self._taken, dtype=float).copy()
+
+    def memory(self) -> dict:
+        """What the controller carries from step to step, as numbers: a checkpoint keeps it (:meth:`restore`).
+
+        ``dt_now`` (the adapted step, s), ``accepted`` (steps accepted since dt last changed: dt doubles
+        after :data:`GROW_AFTER` of them), ``rejected`` (steps retried so far) and the scheme's own
+        (:meth:`Scheme.memory`: Newton's round-off floor). The state (X, V, A, t, step) is the rest of
+        what the next step depends on; with both, a resumed run is the same run bit for bit.
+        """
+        return {"dt_now": self.dt_now, "accepted": self._accepted, "rejected": self.rejected,
+                **self._scheme.memory()}
+
+    def restore(self, memory: dict) -> None:
+        """Take up the controller's memory (:meth:`memory`) of another stepper of the same run.
+
+        Raises InputError naming the key when ``memory`` is not such a dict (an unknown key, a step outside
+        [dt_min, dt], a negative count).
+        """
+        if not isinstance(memory, dict):
+            raise InputError(f"memory must be a dict of the controller's numbers, got {memory!r:.60}", field="memory",
+                             value=memory)
+        own = {"dt_now", "accepted", "rejected"}
+        known_keys(memory, sorted(own | set(self._scheme.memory())), "in the controller's memory")
+        if "dt_now" in memory:
+            dt_now = real("memory.dt_now", memory["dt_now"], positive=True)
+            if not self.dt_min * (1 - 1e-12) <= dt_now <= self.dt * (1 + 1e-12):
+                raise InputError(f"memory.dt_now = {dt_now!r} s is outside [dt_min, dt] = [{self.dt_min:g}, "
+                                 f"{self.dt:g}] s", field="memory.dt_now", value=dt_now)
+            self.dt_now = dt_now
+        if "accepted" in memory:
+            self._accepted = count("memory.accepted", memory["accepted"], minimum=0)
+        if "rejected" in memory:
+            self.rejected = count("memory.rejected", memory["rejected"], minimum=0)
+        self._scheme.restore({k: v for k, v in memory.items() if k not in own})
+
     def step(self, state: State, dt: float | None = None) -> State:
         """Advance one step (of ``dt``, default the current one); implicit schemes retry with smaller steps.
 
@@ -208,6 +254,11 @@ class TimeStepper:
             return self._step(state, dt)
 
     def _step(self, state: State, dt: float | None) -> State:
+        new = self._advance(state, dt)
+        self._taken.append(new.t - state.t)
+        return new
+
+    def _advance(self, state: State, dt: float | None) -> State:
         if not self._scheme.adaptive:
             return self._scheme.step(state, self._X0, dt)
         dt = self.dt_now if dt is None else min(dt, self.dt_now)

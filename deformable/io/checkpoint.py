@@ -1,13 +1,18 @@
 r"""Checkpoints of a run: the state, the constraint reference and the resolved scene config in a .npz.
 
-:func:`save_checkpoint` / :func:`load_checkpoint` store the state (X, V, t,
-step), the constraint reference X0 and the resolved scene config;
+:func:`save_checkpoint` / :func:`load_checkpoint` store the state (X, V, A, t,
+step), the constraint reference X0, the resolved scene config and the
+controller's memory (:meth:`deformable.TimeStepper.memory`: the adapted step,
+the accepted steps since it changed, Newton's round-off floor), as JSON text;
 :class:`CheckpointWriter` writes one every ``every`` steps. Resuming from a
-checkpoint continues a run bit for bit.
+checkpoint (the state, and :meth:`~deformable.TimeStepper.restore` of the
+memory) continues a run bit for bit, also a run whose step adapted. A checkpoint
+of an earlier version has no memory: it resumes with the requested step.
 """
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
@@ -22,7 +27,8 @@ __all__ = ["CheckpointWriter", "save_checkpoint", "load_checkpoint", "CHECKPOINT
 CHECKPOINT_KEYS = ("X", "V", "t", "step", "X0", "scene", "config", "backend", "dt", "nodes")
 
 
-def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, dt: float, nodes) -> Path:
+def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, dt: float, nodes,
+                    memory: dict | None = None) -> Path:
     """Write a checkpoint .npz atomically (a partly written file never has the final name).
 
     Parameters
@@ -32,12 +38,15 @@ def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, d
     X0 : (ndof, 3) the constraint reference of the run (its initial positions)
     scene : scene name; config : the resolved scene config as TOML text
     backend : the backend's registered name; dt : time step (s); nodes : (M, N)
+    memory : the controller's memory (:meth:`deformable.TimeStepper.memory`), optional
 
     Raises WriteError naming the file when it cannot be written (the partial file is removed).
     """
     path = Path(path)
     tmp = path.with_name(path.stem + ".tmp.npz")
     extra = {} if state.A is None else {"A": state.A}  # the implicit schemes' acceleration, when there is one
+    if memory is not None:
+        extra["memory"] = np.str_(json.dumps(memory))
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         np.savez(tmp, X=state.X, V=state.V, t=np.float64(state.t), step=np.int64(state.step), X0=X0,
@@ -66,7 +75,8 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
     adaptive : bool, optional
         Whether the run's scheme adapts dt (the implicit ones); None: either.
 
-    Returns a dict with the keys :data:`CHECKPOINT_KEYS` and ``A`` (None when not stored).
+    Returns a dict with the keys :data:`CHECKPOINT_KEYS`, ``A`` and ``memory`` (a dict; each None when
+    not stored).
     Raises CheckpointError (a ValueError) naming the file and what is wrong.
     """
     path = Path(path)
@@ -80,6 +90,7 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
                                       f"missing {', '.join(missing)}", field="resume", value=str(path))
             out = {k: data[k] for k in CHECKPOINT_KEYS}
             out["A"] = data["A"] if "A" in data.files else None
+            out["memory"] = data["memory"] if "memory" in data.files else None
     except CheckpointError:
         raise
     except Exception as err:  # zipfile.BadZipFile, zlib.error, EOFError, OSError, ValueError, MemoryError ...
@@ -96,6 +107,14 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
     if out["nodes"].shape != (2,) or out["nodes"].dtype.kind != "i" or out["nodes"].min() < 3:
         raise _damaged(path, f"nodes = {out['nodes']!r} is not a grid")
     out["nodes"] = tuple(int(n) for n in out["nodes"])
+    if out["memory"] is not None:
+        try:
+            out["memory"] = json.loads(str(out["memory"]))
+        except ValueError:
+            out["memory"] = None
+        if not isinstance(out["memory"], dict) or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in out["memory"].values()):
+            raise _damaged(path, "its controller memory is not a table of numbers")
     shape = out["X"].shape
     if len(shape) != 2 or shape[1] != 3 or shape[0] < 9:
         raise _damaged(path, f"X has shape {shape}, not (ndof, 3)")
@@ -122,7 +141,8 @@ class CheckpointWriter(Tracker):
     """Write ``<folder>/<stem>-<step>.npz`` every ``every`` steps (see :func:`save_checkpoint`).
 
     ``X0`` is the run's constraint reference (its initial positions, (ndof, 3));
-    ``meta`` the keyword arguments of :func:`save_checkpoint` after it.
+    ``meta`` the keyword arguments of :func:`save_checkpoint` after it; the
+    controller's memory is the stepper's at the step written.
     """
 
     def __init__(self, folder, stem: str, every: int, X0, **meta):
@@ -135,4 +155,6 @@ class CheckpointWriter(Tracker):
 
     def handle(self, state):
         if state.step % self.every == 0:
-            self.written.append(save_checkpoint(self.path(state.step), state, self.X0, **self.meta))
+            stepper = getattr(self, "stepper", None)  # set by initialize in a run; a bare handle() has none
+            memory = stepper.memory() if hasattr(stepper, "memory") else None
+            self.written.append(save_checkpoint(self.path(state.step), state, self.X0, memory=memory, **self.meta))

@@ -9,8 +9,9 @@ run). :func:`inspect` says what a folder holds; :class:`RunFolder` claims one:
   holding them is refused even with ``overwrite``;
 - a lock file (:data:`LOCK`, created with ``O_EXCL``, holding the owner's pid and host) keeps two
   runs out of one folder, also where HDF5's own file locking is switched off
-  (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file systems); the lock of a run that
-  died (same host, pid gone) is taken over;
+  (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file systems); a stale lock (same host, and
+  its process gone, started after the lock was written, or not a Python process: :func:`stale`)
+  is cleared with a warning and taken over;
 - text files (the resolved config) are written atomically (a temporary file, then a rename), so
   the config beside the results always describes them.
 
@@ -20,6 +21,7 @@ default output folder that every run of a scene would otherwise share.
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 import shutil
@@ -29,7 +31,9 @@ from pathlib import Path
 from ..errors import OutputFolderError, WriteError
 from ..limits import existing
 
-__all__ = ["LOCK", "RunFolder", "inspect", "is_result", "fresh", "write_text"]
+__all__ = ["LOCK", "RunFolder", "inspect", "is_result", "fresh", "write_text", "stale"]
+
+log = logging.getLogger(__name__)
 
 #: the lock file of a folder in use
 LOCK = ".deformable.lock"
@@ -84,22 +88,64 @@ def _names(paths, most: int = 3) -> str:
     return ", ".join(names) + (f" and {len(paths) - most} more" if len(paths) > most else "")
 
 
+def _started(pid: int) -> float | None:
+    """When process ``pid`` started (s since the epoch, from Linux's /proc); None where that cannot be read."""
+    try:
+        fields_ = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        boot = next(float(line.split()[1]) for line in Path("/proc/stat").read_text().splitlines()
+                    if line.startswith("btime "))
+        return boot + int(fields_[19]) / os.sysconf("SC_CLK_TCK")  # field 22 of proc(5): starttime in ticks
+    except (OSError, ValueError, IndexError, StopIteration):
+        return None
+
+
+def _runs_python(pid: int) -> bool | None:
+    """Whether process ``pid`` runs Python (a run of this package does); None where that cannot be read."""
+    try:
+        argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+    except OSError:
+        return None
+    return any(b"python" in Path(os.fsdecode(a)).name.encode() or b"deformable" in a for a in argv[:2])
+
+
 def _owner(folder: Path) -> str | None:
-    """'pid N on HOST' of a live lock in ``folder``; None when there is none or its run died."""
+    """'pid N on HOST' of a live lock in ``folder``; None when there is none or it is stale (:func:`stale`)."""
     lock = folder / LOCK
     try:
         pid, host = lock.read_text().split()[:2]
         pid = int(pid)
     except (OSError, ValueError):
         return None if not lock.exists() else "an unknown run"
-    if host == socket.gethostname():
-        try:
-            os.kill(pid, 0)
-        except ProcessLookupError:
-            return None  # a run that died: its lock is stale
-        except PermissionError:
-            pass
+    if host == socket.gethostname() and stale(lock, pid) is not None:
+        return None
     return f"pid {pid} on {host}"
+
+
+def stale(lock: Path, pid: int) -> str | None:
+    """Why the lock file ``lock`` of process ``pid`` (on this host) is stale, or None when its run may be alive.
+
+    Stale: the process is gone; or it started after the lock was written (the pid was reused, after a reboot
+    say); or it is not a Python process (a run of this package is). A process that cannot be inspected (no
+    /proc) counts as alive.
+    """
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return f"its run (pid {pid}) is gone"
+    except PermissionError:
+        pass
+    except (OverflowError, ValueError):
+        return f"pid {pid} is not a process number"
+    started = _started(pid)
+    try:
+        written = lock.stat().st_mtime
+    except OSError:
+        return None
+    if started is not None and started > written + 1.0:  # /proc's start time is in clock ticks
+        return f"pid {pid} is a newer process than the lock"
+    if _runs_python(pid) is False:
+        return f"pid {pid} is not a run of this package"
+    return None
 
 
 def fresh(folder) -> Path:
@@ -204,7 +250,7 @@ class RunFolder:
                     raise OutputFolderError(f"output folder {str(self.path)!r} is in use by another run ({owner}; "
                                             f"lock file {LOCK}); choose another --out", field="out",
                                             value=str(self.path)) from None
-                lock.unlink(missing_ok=True)  # the lock of a run that died
+                self._clear(lock)
                 continue
             except OSError as err:
                 raise OutputFolderError(f"cannot write to output folder {str(self.path)!r}: {err.strerror or err}",
@@ -214,6 +260,17 @@ class RunFolder:
             self._locked = True
             return
         raise OutputFolderError(f"cannot lock output folder {str(self.path)!r}", field="out", value=str(self.path))
+
+    @staticmethod
+    def _clear(lock: Path) -> None:
+        """Remove a stale lock (:func:`stale`), saying whose it was and why it is stale."""
+        try:
+            pid = int(lock.read_text().split()[0])
+            why = stale(lock, pid) or "its run is gone"
+        except (OSError, ValueError, IndexError):
+            why = "it names no run"
+        lock.unlink(missing_ok=True)
+        log.warning("cleared the stale lock %s: %s", lock, why)
 
     def release(self):
         """Remove the lock (a finished, diverged or failed run does)."""

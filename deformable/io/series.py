@@ -27,9 +27,11 @@ digits, which removes the round-off of summing dt (2.0, not
 element (``frame``: ``first``, ``cadence`` or ``last``), which readers skip.
 
 Resume. ``append=True`` continues an existing series: the frames after the
-state the run resumes from are dropped, and so is a ``last`` frame at it,
-so that the continued series equals the one an uninterrupted run writes,
-frame by frame, in one file a ParaView user opens.
+state the run resumes from are dropped (with a warning that says how many),
+and so is a ``last`` frame at it, so that the continued series equals the one
+an uninterrupted run writes, frame by frame, in one file a ParaView user opens.
+A series that ends before the state (cut back by a resume from an earlier
+state) is refused (:func:`continuation`): continuing it would leave a hole.
 
 Everything is taken through the backend protocol: ``model.grid`` for positions
 and velocities at the nodes, ``model.sample`` at the node coordinates for G and
@@ -61,7 +63,7 @@ from ..errors import InputError, WriteError
 from ..limits import DATASET_BYTES, check_room
 from ..physics.material import TENSORS
 
-__all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time"]
+__all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time", "continuation"]
 
 log = logging.getLogger(__name__)
 
@@ -213,22 +215,14 @@ class XDMFWriter(Tracker):
         """Continue the series at self.path from ``state``: drop the frames after it (module docstring)."""
         import h5py
 
-        try:
-            self._root = ET.parse(self.path).getroot()
-            self._series = self._root.find("Domain/Grid")
-            frames = list(self._series.findall("Grid"))
-            steps = [int(g.get("Name", "")[len("step"):]) for g in frames]
-        except (ET.ParseError, AttributeError, TypeError, ValueError):
-            raise InputError(f"cannot continue the series {str(self.path)!r}: it is not a series this writer wrote",
-                             field="path", value=str(self.path)) from None
-        for g, step in zip(frames, steps):
-            kind = g.find("Information[@Name='frame']")
-            if step > state.step or (step == state.step and kind is not None and kind.get("Value") == "last"):
-                self._series.remove(g)
-        kept = list(self._series.findall("Grid"))
-        if not kept:
-            raise InputError(f"cannot continue the series {str(self.path)!r}: it has no frame before step "
-                             f"{state.step}", field="path", value=str(self.path))
+        kept, dropped = continuation(self.path, state.step, state.t, self.interval, self._step_cadence)
+        frames = list(self._series_root().findall("Grid"))
+        for g in frames[kept:]:
+            self._series.remove(g)
+        if dropped:
+            log.warning("continuing the series %s from step %d (t = %.6g s): dropped its %d later frames", self.path,
+                        state.step, state.t, dropped)
+        kept = frames[:kept]
         self._mesh_name = kept[0].get("Name")
         used = {item.text.split(":/")[-1] for item in self._root.iter("DataItem")}
         self._h5 = h5py.File(self.h5_path, "a")
@@ -239,6 +233,11 @@ class XDMFWriter(Tracker):
         self.frames = len(kept)
         self._last_step = int(kept[-1].get("Name")[len("step"):])
         self._flush()
+
+    def _series_root(self):
+        self._root = ET.parse(self.path).getroot()
+        self._series = self._root.find("Domain/Grid")
+        return self._series
 
     def _after(self, t: float) -> float:
         """The first cadence time after t (interval cadence)."""
@@ -302,6 +301,50 @@ class XDMFWriter(Tracker):
             except (OSError, RuntimeError):
                 pass
             self._h5 = None
+
+
+def _frames(path) -> list[tuple[int, float, str]]:
+    """(step, time, kind) of each frame of a series this writer wrote; InputError when it is not one."""
+    try:
+        series = ET.parse(path).getroot().find("Domain/Grid")
+        out = []
+        for g in series.findall("Grid"):
+            kind = g.find("Information[@Name='frame']")
+            out.append((int(g.get("Name", "")[len("step"):]), float(g.find("Time").get("Value")),
+                        "" if kind is None else kind.get("Value")))
+    except (ET.ParseError, OSError, AttributeError, TypeError, ValueError):
+        raise InputError(f"cannot continue the series {str(path)!r}: it is not a series this writer wrote",
+                         field="path", value=str(path)) from None
+    return out
+
+
+def continuation(path, step: int, t: float, interval: float | None = None, every: int = 1) -> tuple[int, int]:
+    """How the series at ``path`` continues from the state at ``step``, time ``t`` (s): (frames kept, dropped).
+
+    Kept are its frames up to the state (but a ``last`` frame at it); they must reach as far as an
+    uninterrupted run's would: with an ``interval`` (s), the frame at or past the last multiple of it up
+    to ``t``; else the last multiple of ``every`` steps up to ``step``. A series that ends earlier (a run
+    resumed from an earlier state and killed before it got this far) has a hole the resumed run would
+    not fill: InputError naming the times, and nothing is changed. Frames after the state (a run killed
+    after its checkpoint) are what a continuation drops. Reads only.
+    """
+    frames = _frames(path)
+    kept = [f for f in frames if f[0] < step or (f[0] == step and f[2] != "last")]
+    if not kept:
+        raise InputError(f"cannot continue the series {str(path)!r}: it has no frame before step {step}",
+                         field="path", value=str(path))
+    last_step, last_t, _ = kept[-1]
+    if interval is not None:
+        due = np.floor(t / interval + 1e-9) * interval  # the last cadence time up to t
+        short = last_t < due - 1e-9 * interval - 1e-12 * abs(due)
+    else:
+        short = last_step < step - step % every
+    if short:
+        raise InputError(f"cannot continue the series {str(path)!r} from step {step} (t = {frame_time(t):.6g} s): "
+                         f"its frames end at step {last_step} (t = {last_t:.6g} s), so those in between are missing "
+                         "(the series was cut back by a resume from an earlier state); resume from a checkpoint "
+                         f"at or before step {last_step}", field="resume", value=str(path))
+    return len(kept), len(frames) - len(kept)
 
 
 def _reason(err) -> str:

@@ -11,13 +11,14 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import re
 import signal
 import sys
 
 import deformable
 from deformable.errors import NumericalError
 
-__all__ = ["main", "CommandError", "HelpFormatter"]
+__all__ = ["main", "parse", "CommandError", "HelpFormatter"]
 
 # subcommand -> (module, one-line help)
 COMMANDS = {
@@ -79,13 +80,32 @@ def _missing(name):
     return execute
 
 
+def parse(parser, argv):
+    """The command line's arguments; ``KEY=VALUE`` items anywhere among the options join a command's overrides.
+
+    (argparse gives a positional list only the items before the first option; ``deformable run hanging
+    --grid 8x8 eta=25`` sets eta like ``deformable run hanging eta=25 --grid 8x8``.) Anything else left
+    over is refused as argparse refuses it.
+    """
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        pairs = [item for item in extra if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", item, flags=re.DOTALL)]
+        if hasattr(args, "overrides") and len(pairs) == len(extra):
+            args.overrides = [*args.overrides, *pairs]
+        else:
+            rest = [item for item in extra if item not in pairs] if hasattr(args, "overrides") else extra
+            prog = f"deformable {args.command}" if getattr(args, "command", None) else "deformable"
+            raise CommandError(f"{prog}: unrecognized arguments: {' '.join(rest)}")
+    return args
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f): a failed write (EFBIG), not a crash
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     try:
         parser = build_parser()
-        args = parser.parse_args(argv)
+        args = parse(parser, argv)
         logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                             format="%(levelname)s %(name)s: %(message)s")
         if args.command is None:

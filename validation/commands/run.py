@@ -34,17 +34,24 @@ exactly (the last step is shortened where T is not a whole number of steps).
 ``--every S`` writes a frame every S seconds of simulated time (the first step
 at or past each multiple of S), so the frames do not depend on the backend's dt.
 
-Checkpoints (``--checkpoint-every K``) hold X, V, t, step, the constraint
-reference X0 and the resolved config; ``--resume FILE`` continues from one,
-bit-identical to an uninterrupted run. Any difference between the scene (file,
-``KEY=VALUE``, options) and the checkpoint's config is refused, naming the field
-(the scene may be left out: the checkpoint's is taken). The resumed run
-continues the series ``<scene>.xdmf`` of the checkpoint's folder (by default
-its ``--out``; another folder gets a copy of it first), dropping its frames
-after the checkpoint, so the series equals the uninterrupted run's frame by
-frame, ``displacement`` measured from the original start. A diverging run
-stops at the step that diverged, keeps its frames and writes a checkpoint of
-the last good state (``<scene>-diverged.npz``); the command then exits 1.
+Checkpoints (``--checkpoint-every K``) hold X, V, A, t, step, the constraint
+reference X0, the resolved config and the controller's memory (the adapted
+step: :meth:`deformable.TimeStepper.memory`); ``--resume FILE`` continues from
+one, bit-identical to an uninterrupted run, also one whose implicit step
+adapted. Any difference between the scene (file, ``KEY=VALUE``, options) and
+the checkpoint's config is refused, naming the field (the scene may be left
+out: the checkpoint's is taken). The resumed run continues the series
+``<scene>.xdmf`` of the checkpoint's folder (by default its ``--out``; another
+folder gets a copy of it first), dropping its frames after the checkpoint, so
+the series equals the uninterrupted run's frame by frame, ``displacement``
+measured from the original start. A series that ends before the checkpoint
+(cut back by a resume from an earlier one) is refused, naming the last step it
+reaches; the checkpoints later than the one resumed from are removed when the
+resumed run starts (their frames are gone). The summary line gives the
+smallest, median and largest step taken where they differ from the requested
+dt. A diverging run stops at the step that diverged, keeps its frames and
+writes a checkpoint of the last good state (``<scene>-diverged.npz``); the
+command then exits 1.
 
 Bad input (unknown scene or key, malformed grid, dt <= 0, an output folder that
 cannot be written or holds another run's results, a resume file that is damaged
@@ -64,8 +71,10 @@ import tomllib
 from dataclasses import fields
 from pathlib import Path
 
+import numpy as np
+
 import deformable
-from deformable import scenes
+from deformable import scenes, tomlio
 from deformable.checks import known_keys
 from deformable.contact.points import clearance, require_outside
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
@@ -73,6 +82,7 @@ from deformable.errors import InputError
 from deformable.io import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
 from deformable.io.folder import RunFolder, fresh, write_text
 from deformable.io.render import FIELDS, render_series
+from deformable.io.series import continuation
 from deformable.limits import check_series
 from deformable.physics.force_models import ForceModel
 from validation.harness import drape
@@ -175,11 +185,7 @@ def _source(scene: str) -> tuple[str | None, str]:
     """(the text of a scene file, its name) or (None, a scene name)."""
     if not scene.endswith(".toml"):
         return None, scene
-    try:
-        return Path(scene).read_text(), scene
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"cannot read scene file {scene!r}: {getattr(err, 'strerror', None) or err}", field="scene",
-                     value=scene) from None
+    return tomlio.read_text(scene, field="scene"), scene
 
 
 def _positive(name: str, text, kind=float):
@@ -288,6 +294,16 @@ def prepare(args) -> Run:
     if checkpoint is not None:
         _fits(args.resume, checkpoint, cfg, backend, stepper)
         X0 = checkpoint["X0"]
+        if checkpoint["memory"] is not None:  # the adapted step and the rest of the controller's memory
+            try:
+                stepper.restore(checkpoint["memory"])
+            except InputError as err:
+                raise InputError(f"resume file {str(args.resume)!r}: {err}", field="resume",
+                                 value=args.resume) from None
+        elif stepper.adaptive:
+            log.warning("%s holds no controller memory (an earlier version wrote it): the resumed run starts at "
+                        "dt = %g s and differs from the uninterrupted one wherever its step adapted", args.resume,
+                        cfg.dt)
         run.start = State(t=checkpoint["t"], X=checkpoint["X"], V=checkpoint["V"], step=checkpoint["step"],
                           A=checkpoint["A"])
     else:
@@ -369,6 +385,7 @@ def _folder(run: Run, args, checkpoint) -> None:
 
         if source.is_file() and own(home):
             run.series = source
+            continuation(source, run.start.step, run.start.t, run.every)  # a series with a hole is refused
         elif source.is_file():
             log.warning("the series %s is not this run's (its config differs): the resumed run starts a new series",
                         source)
@@ -378,6 +395,31 @@ def _folder(run: Run, args, checkpoint) -> None:
         run.folder = RunFolder(out, overwrite=args.overwrite)
     run.folder.check()
     run.out = run.folder.path
+
+
+def _abandon(folder: Path, scene: str, step: int) -> None:
+    """Remove the checkpoints in ``folder`` later than ``step``: the run resumed from ``step`` replaces them.
+
+    Their series is cut back to ``step``; resumed from, they would leave a hole in it (a diverged run's last
+    good state likewise).
+    """
+    later = []
+    for path in sorted(folder.glob(f"{scene}-checkpoint-*.npz")) + [folder / f"{scene}-diverged.npz"]:
+        m = re.fullmatch(rf"{re.escape(scene)}-checkpoint-(\d+)\.npz", path.name)
+        if m is not None:
+            if int(m.group(1)) > step:
+                later.append(path)
+        elif path.is_file():
+            try:
+                if load_checkpoint(path)["step"] > step:
+                    later.append(path)
+            except InputError:
+                pass  # not a checkpoint this run can read: left alone
+    for path in later:
+        path.unlink(missing_ok=True)
+    if later:
+        log.warning("removed %d checkpoints later than step %d (%s), of the run this one replaces from there",
+                    len(later), step, ", ".join(p.name for p in later[:3]) + (" ..." if len(later) > 3 else ""))
 
 
 def simulate(run: Run, progress: bool = False):
@@ -391,6 +433,8 @@ def simulate(run: Run, progress: bool = False):
         if run.series is not None and run.series.resolve() != path.resolve():
             for src in (run.series, run.series.with_suffix(".h5")):
                 shutil.copyfile(src, run.out / src.name)
+        if run.start is not None:
+            _abandon(run.out, cfg.scene, run.start.step)
         writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None)
         energy = EnergyMonitor(every=max(1, int(round(run.every / cfg.dt))))
         trackers = [writer, energy]
@@ -408,8 +452,18 @@ def simulate(run: Run, progress: bool = False):
             writer.close()
         written = list(ckpt.written) if ckpt else []
         if result.status == "diverged":
-            written.append(save_checkpoint(run.out / f"{cfg.scene}-diverged.npz", result.state, run.X0, **meta))
+            written.append(save_checkpoint(run.out / f"{cfg.scene}-diverged.npz", result.state, run.X0,
+                                           memory=run.stepper.memory(), **meta))
     return result, writer, energy, written
+
+
+def _steps_line(stepper, dt: float) -> str:
+    """What the steps of this run were: "dt = 5 s", or, where they differ, their smallest, median and largest."""
+    taken = stepper.steps_taken
+    if taken.size == 0 or np.allclose(taken, dt, rtol=1e-9, atol=0):
+        return f"dt = {dt:g} s"
+    low, mid, high = np.min(taken), np.median(taken), np.max(taken)
+    return f"dt {low:.3g} to {high:.3g} s, median {mid:.3g} s, over the {taken.size} steps taken; requested {dt:g} s"
 
 
 def execute(args) -> int:
@@ -433,7 +487,8 @@ def execute(args) -> int:
             print(f"rendered {len(pngs) - 1} frames and {pngs[-1]}")
     if not quiet:
         print(f"{cfg.scene}: {result.status}, {result.steps} steps to t = {result.state.t:.6g} s "
-              f"(dt = {cfg.dt:g} s, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}, {run.stepper.scheme}) in "
+              f"({_steps_line(run.stepper, cfg.dt)}, {cfg.nodes[0]}x{cfg.nodes[1]} {run.backend}, "
+              f"{run.stepper.scheme}) in "
               f"{wall:.1f} s wall; energy: stretching {e.stretching:.4g} J, bending {e.bending:.4g} J, kinetic "
               f"{kinetic:.4g} J; {writer.frames} frames in {writer.path}")
         if run.clearance:

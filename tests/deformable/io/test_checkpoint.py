@@ -15,7 +15,8 @@ def test_a_checkpoint_reads_back_what_was_saved(tmp_path, rng):
     path = save_checkpoint(tmp_path / "c.npz", state, X0, **META)
     assert [p.name for p in tmp_path.iterdir()] == ["c.npz"]  # no temporary file left
     ck = load_checkpoint(path)
-    assert set(ck) == set(CHECKPOINT_KEYS) | {"A"} and ck["A"] is None  # no acceleration (a semi-implicit run)
+    assert set(ck) == set(CHECKPOINT_KEYS) | {"A", "memory"} and ck["A"] is None  # no acceleration (semi-implicit)
+    assert ck["memory"] is None  # none given
     assert (ck["t"], ck["step"], ck["scene"], ck["config"], ck["backend"], ck["dt"], ck["nodes"]) == (
         0.25, 250, "flag", META["config"], "fd", 1e-3, (4, 5))
     for key, value in (("X", state.X), ("V", state.V), ("X0", X0)):
@@ -23,6 +24,8 @@ def test_a_checkpoint_reads_back_what_was_saved(tmp_path, rng):
     with_a = dm.State(t=0.25, X=state.X, V=state.V, step=250, A=rng.normal(size=(20, 3)))
     np.testing.assert_array_equal(load_checkpoint(save_checkpoint(tmp_path / "a.npz", with_a, X0, **META))["A"],
                                   with_a.A)
+    memory = {"dt_now": 0.125, "accepted": 3, "rejected": 1, "newton_floor": 2.5e-11}
+    assert load_checkpoint(save_checkpoint(tmp_path / "m.npz", with_a, X0, memory=memory, **META))["memory"] == memory
 
 
 def test_what_is_not_a_checkpoint_is_a_value_error(tmp_path):
