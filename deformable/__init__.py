@@ -55,9 +55,11 @@ from .errors import (
     IllPosedScene,
     IncompatibleRestState,
     InputError,
+    LoadBelowRoundOff,
     NumericalError,
     OutputFolderError,
     ResourceError,
+    UnstableEquilibrium,
     WriteError,
 )
 from .geometry.compatibility import check_compatibility, check_rest_state
@@ -92,7 +94,8 @@ __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "
     "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",
     "CheckpointError", "OutputFolderError", "ResourceError", "WriteError", "NumericalError", "XDMFWriter",
     "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
-    "RunFolder", "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder"]
+    "RunFolder", "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff",
+    "UnstableEquilibrium"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)
 _FORMER = {"FORCE_MODELS": (lambda: ForceModel.names(), "deformable.ForceModel.names()")}

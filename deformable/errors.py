@@ -16,9 +16,12 @@ One hierarchy, so that a caller can tell "you asked for something wrong" from
         |-- StepRejected                   an implicit step's Newton solve fell short (it is retried shorter)
         `-- SingularMatrix (also an ArithmeticError)   a factorisation met a zero or, if definite, a negative pivot
 
-Warnings: :class:`IllPosedScene` (deformations that cost no energy) and
-:class:`IncompatibleRestState` (rest tensors that fail the compatibility test
-of eq. (10)), both UserWarnings.
+Warnings, all UserWarnings: :class:`IllPosedScene` (deformations that cost no
+energy), :class:`IncompatibleRestState` (rest tensors that fail the
+compatibility test of eq. (10)), :class:`LoadBelowRoundOff` (a load Newton's
+method cannot resolve against the elastic forces' round-off) and
+:class:`UnstableEquilibrium` (an equilibrium whose Newton matrix has negative
+eigenvalues).
 
 Every message of an :class:`InputError` names the field and the value it
 refuses, so the command line prints it as it is, in one line (exit code 2).
@@ -31,7 +34,7 @@ from __future__ import annotations
 
 __all__ = ["DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
            "NumericalError", "DivergenceError", "StalledError", "ConvergenceError", "StepRejected", "SingularMatrix",
-           "IllPosedScene", "IncompatibleRestState"]
+           "IllPosedScene", "IncompatibleRestState", "LoadBelowRoundOff", "UnstableEquilibrium"]
 
 
 class DeformableError(Exception):
@@ -116,3 +119,13 @@ class IllPosedScene(UserWarning):
 
 class IncompatibleRestState(UserWarning):
     """The rest tensors G0, B0 of a scene fail the compatibility test of eq. (10)."""
+
+
+class LoadBelowRoundOff(UserWarning):
+    """An applied load at or below the round-off floor of the elastic forces that Newton's steps do not resolve: it
+    is lost in round-off (the stiffness is too large against the loads and the inertia for double precision)."""
+
+
+class UnstableEquilibrium(UserWarning):
+    """An equilibrium whose Newton matrix has negative eigenvalues: a saddle of the energy, which a perturbation
+    leaves for another branch (a column beyond its Euler load, started straight)."""

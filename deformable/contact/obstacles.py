@@ -45,6 +45,16 @@ quadratic where phi is smooth. :meth:`Obstacle.first_contact` returns that
 root (to round-off; infinity when phi never reaches L): the exact largest step
 along a displacement that keeps every point at distance L or more. A
 non-convex obstacle would need another root finder.
+
+Range. The signed distance of a point near the surface is a difference of
+numbers of the obstacle's size (|x - c| - r for a sphere of centre c, radius
+r), so its round-off is about 4 eps times that size: at a radius of 1e15 m
+every point within a metre of the surface is at distance 0, and at 1e300 the
+squares overflow and every distance is infinite (the ball counted as absent).
+Every length of an obstacle (radius, height, a box's sides) is therefore at
+most :data:`MAX_LENGTH`, where that round-off is 1e-6 m, a thousandth of the
+contact scenes' barrier width (1 mm); a half-space is the limit of a larger
+ball or box, and computes its distance to full precision.
 """
 
 from __future__ import annotations
@@ -59,10 +69,12 @@ from ..checks import known_keys, vector
 from ..errors import InputError
 from ..registry import Registered
 
-__all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table"]
+__all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table", "MAX_LENGTH"]
 
 #: Newton iterations of :meth:`Obstacle.first_contact` (quadratic convergence needs a handful)
 _ROOT_ITERATIONS = 60
+#: the largest length of an obstacle (m): the signed distance near its surface keeps 4 eps x 1e9 m < 1e-6 m
+MAX_LENGTH = 1e9
 
 
 def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
@@ -70,7 +82,7 @@ def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
     if unit:
         norm = float(np.linalg.norm(v))
         if norm == 0:
-            raise ValueError(f"{owner}.{name} must be non-zero, got {value!r}")
+            raise InputError(f"{owner}.{name} must be non-zero, got {value!r}", field=f"{owner}.{name}", value=value)
         if abs(norm - 1) > 4 * np.finfo(float).eps:  # a unit vector stays as it is (a table reads back equal)
             v = v / norm
     return tuple(float(c) for c in v)
@@ -79,9 +91,19 @@ def _vector(owner: str, name: str, value, unit: bool = False) -> tuple:
 def _length(owner: str, name: str, value, positive: bool = True) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or (
             value <= 0 if positive else value < 0):
-        raise ValueError(f"{owner}.{name} must be a finite {'positive' if positive else 'non-negative'} number "
-                         f"(m), got {value!r}")
+        raise InputError(f"{owner}.{name} must be a finite {'positive' if positive else 'non-negative'} number "
+                         f"(m), got {value!r}", field=f"{owner}.{name}", value=value)
+    _within_range(owner, name, value)
     return float(value)
+
+
+def _within_range(owner: str, name: str, value: float) -> None:
+    """InputError for a length beyond :data:`MAX_LENGTH` (module docstring, "Range"), with the reason."""
+    if value > MAX_LENGTH:
+        raise InputError(f"{owner}.{name} must be at most {MAX_LENGTH:g} m, got {value!r}: the signed distance of a "
+                         f"point near the surface, a difference of numbers of that size, is lost in round-off "
+                         f"({4 * np.finfo(float).eps * float(value):.3g} m); a plane (kind \"plane\") is the limit of "
+                         "so large an obstacle", field=f"{owner}.{name}", value=value)
 
 
 def box_distance(p: np.ndarray, e: np.ndarray, hessian: bool = True):
@@ -269,10 +291,13 @@ class Box(Obstacle):
     def __post_init__(self):
         lo, hi = _vector("Box", "lower", self.lower), _vector("Box", "upper", self.upper)
         if not all(a < b for a, b in zip(lo, hi)):
-            raise ValueError(f"Box.lower must lie below Box.upper in every coordinate, got {lo!r} and {hi!r}")
+            raise InputError(f"Box.lower must lie below Box.upper in every coordinate, got {lo!r} and {hi!r}",
+                             field="Box.lower", value=lo)
+        _within_range("Box", "upper - lower", max(b - a for a, b in zip(lo, hi)))
         r = _length("Box", "rounding", self.rounding, positive=False)
         if r > 0.5 * min(b - a for a, b in zip(lo, hi)):
-            raise ValueError(f"Box.rounding must be at most half the shortest side, got {r!r}")
+            raise InputError(f"Box.rounding must be at most half the shortest side, got {r!r}", field="Box.rounding",
+                             value=r)
         object.__setattr__(self, "lower", lo)
         object.__setattr__(self, "upper", hi)
         object.__setattr__(self, "rounding", r)
@@ -314,7 +339,8 @@ class Cylinder(Obstacle):
         H = _length("Cylinder", "height", self.height)
         r = _length("Cylinder", "rounding", self.rounding, positive=False)
         if r > min(R, 0.5 * H):
-            raise ValueError(f"Cylinder.rounding must be at most min(radius, height / 2), got {r!r}")
+            raise InputError(f"Cylinder.rounding must be at most min(radius, height / 2), got {r!r}",
+                             field="Cylinder.rounding", value=r)
         object.__setattr__(self, "radius", R)
         object.__setattr__(self, "height", H)
         object.__setattr__(self, "rounding", r)

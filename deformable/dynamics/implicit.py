@@ -116,11 +116,11 @@ class Implicit(Scheme):
 
     def memory(self) -> dict:
         """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from."""
-        return {"newton_floor": self.newton._floor}
+        return {"newton_floor": self.newton.floor}
 
     def restore(self, memory: dict) -> None:
         if "newton_floor" in memory:
-            self.newton._floor = real("memory.newton_floor", memory["newton_floor"], non_negative=True)
+            self.newton.floor = real("memory.newton_floor", memory["newton_floor"], non_negative=True)
 
     # -- the step --------------------------------------------------------------------
     def acceleration(self, state) -> np.ndarray:

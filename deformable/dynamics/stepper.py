@@ -156,6 +156,7 @@ class TimeStepper:
         self.dt_min, self.dt_now, self.rejected = float(dt_min), self.dt, 0
         self._accepted = 0
         self._taken = array("d")  # the length of each step taken (s)
+        self._trackers, self._pending = [], {}  # the current run's trackers; memories for the next run's
         self._scheme = kind(model, self.dt, newton=newton, solver=solver)
 
     def _resolve_dt(self, dt) -> float:
@@ -201,6 +202,11 @@ class TimeStepper:
         return getattr(self._scheme, "reports", [])
 
     @property
+    def reference(self) -> np.ndarray | None:
+        """The run's constraint reference X0, (ndof, 3): its initial positions, also in a resumed run."""
+        return getattr(self, "_X0", None)
+
+    @property
     def adaptive(self) -> bool:
         """Whether the scheme adapts its step (the implicit ones: module docstring)."""
         return self._scheme.adaptive
@@ -215,11 +221,14 @@ class TimeStepper:
 
         ``dt_now`` (the adapted step, s), ``accepted`` (steps accepted since dt last changed: dt doubles
         after :data:`GROW_AFTER` of them), ``rejected`` (steps retried so far) and the scheme's own
-        (:meth:`Scheme.memory`: Newton's round-off floor). The state (X, V, A, t, step) is the rest of
-        what the next step depends on; with both, a resumed run is the same run bit for bit.
+        (:meth:`Scheme.memory`: Newton's round-off floor), and under ``trackers`` that of the trackers of
+        the current run that keep one (by class name: the divergence guard's energy budget and peaks). The
+        state (X, V, A, t, step) is the rest of what the next step depends on; with both, a resumed run is
+        the same run bit for bit, its guard's decisions included.
         """
+        trackers = {type(tr).__name__: tr.memory() for tr in self._trackers if callable(getattr(tr, "memory", None))}
         return {"dt_now": self.dt_now, "accepted": self._accepted, "rejected": self.rejected,
-                **self._scheme.memory()}
+                **self._scheme.memory(), **({"trackers": trackers} if trackers else {})}
 
     def restore(self, memory: dict) -> None:
         """Take up the controller's memory (:meth:`memory`) of another stepper of the same run.
@@ -230,7 +239,7 @@ class TimeStepper:
         if not isinstance(memory, dict):
             raise InputError(f"memory must be a dict of the controller's numbers, got {memory!r:.60}", field="memory",
                              value=memory)
-        own = {"dt_now", "accepted", "rejected"}
+        own = {"dt_now", "accepted", "rejected", "trackers"}
         known_keys(memory, sorted(own | set(self._scheme.memory())), "in the controller's memory")
         if "dt_now" in memory:
             dt_now = real("memory.dt_now", memory["dt_now"], positive=True)
@@ -242,6 +251,11 @@ class TimeStepper:
             self._accepted = count("memory.accepted", memory["accepted"], minimum=0)
         if "rejected" in memory:
             self.rejected = count("memory.rejected", memory["rejected"], minimum=0)
+        trackers = memory.get("trackers", {})
+        if not isinstance(trackers, dict) or not all(isinstance(v, dict) for v in trackers.values()):
+            raise InputError(f"memory.trackers must map tracker names to their memories, got {trackers!r:.60}",
+                             field="memory.trackers", value=trackers)
+        self._pending = dict(trackers)  # taken up by the trackers of the next run, after their initialize
         self._scheme.restore({k: v for k, v in memory.items() if k not in own})
 
     def step(self, state: State, dt: float | None = None) -> State:
@@ -420,8 +434,12 @@ class TimeStepper:
             trackers.insert(0, DivergenceGuard())
         if progress:
             trackers.append(ProgressBar())
+        pending, self._pending = self._pending, {}
         for tr in trackers:
             tr.initialize(state, self, expected)
+            if type(tr).__name__ in pending and callable(getattr(tr, "restore", None)):
+                tr.restore(pending[type(tr).__name__])  # a resumed run's tracker takes up its memory
+        self._trackers = trackers
         status, message = "finished", ""
         start = time.perf_counter()
         last = state.step + expected
@@ -436,6 +454,7 @@ class TimeStepper:
                             break
                 if isinstance(stop, Stop) and stop.diverged:
                     status, message = "diverged", stop.reason
+                    state = getattr(tr, "last_good", state)  # a guard's last checked state (its cadence > 1)
                     break
                 state = new
                 if isinstance(stop, Stop):

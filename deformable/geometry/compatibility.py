@@ -32,6 +32,14 @@ or a cylinder; where an incompatible pair has u != 0 = v) the ratio and the
 cosine are undefined: those points are *guarded* and tested by the residual
 |u - v| instead, so that no reported number is NaN or infinite.
 
+Range. Fields so large or so small that a product or a quotient of them
+leaves double precision (a curvature of 1e200 1/m, whose square overflows; a
+metric of 1e-300, whose determinant squared underflows to 0 under Brioschi's
+quotient) make residuals infinite or NaN, against which every comparison
+would pass (an infinite scale guards every point). The test is not
+computable there: :attr:`Compatibility.finite` is False, and so is
+:attr:`Compatibility.compatible`.
+
 A scene can be checked before a run (and one with rest-tensor overrides is
 checked when it is made): :func:`check_rest_state` evaluates a Scene's G0, B0 on
 its node grid, and :func:`warn_if_incompatible` turns a failed check into an
@@ -133,7 +141,8 @@ class Comparison:
         max |u - v| over the other, guarded, points, relative to the vectors' scale (0 when none is
         guarded): where a vector vanishes the ratio and the cosine are undefined and the residual is the test.
     passed : bool
-        |ratio - 1| <= rtol and cosine >= 1 - rtol at every resolved point, residual <= rtol.
+        |ratio - 1| <= rtol and cosine >= 1 - rtol at every resolved point, residual <= rtol, every quantity
+        of the test finite (module docstring, "Range").
     """
 
     points: int
@@ -173,6 +182,9 @@ class Compatibility:
         scale at all points. Zero for a compatible pair up to discretisation error.
     guarded : float
         Fraction of points where a compared vector is below the guard (ratio and cosine undefined).
+    finite : bool
+        Every quantity of the test (third derivatives, curvatures, Codazzi residuals, scales) is finite; when
+        not, the test is not computable in double precision and ``compatible`` is False (module docstring).
     fields : dict
         Residual fields (M', N') over the checked points: "gauss", "codazzi1", "codazzi2".
     """
@@ -185,12 +197,20 @@ class Compatibility:
     mismatch_relative: float
     guarded: float
     rtol: float
+    finite: bool = True
     fields: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def verdict(self) -> str:
+        """"compatible", "INCOMPATIBLE", or "NOT COMPUTABLE" (non-finite residuals, module docstring)."""
+        return "compatible" if self.compatible else "INCOMPATIBLE" if self.finite else "NOT COMPUTABLE"
 
     def summary(self) -> str:
         """One line for logs and warnings."""
         parts = "; ".join(f"{name}: {c.describe()}" for name, c in self.comparisons.items())
-        return (f"{'compatible' if self.compatible else 'INCOMPATIBLE'} (tolerance {self.rtol:g}): {parts}; "
+        if not self.finite:
+            parts = f"non-finite residuals (the fields leave double precision); {parts}"
+        return (f"{self.verdict} (tolerance {self.rtol:g}): {parts}; "
                 f"Gauss residual {self.gauss:.3g}, Codazzi residuals {self.codazzi[0]:.3g}, {self.codazzi[1]:.3g}")
 
 
@@ -222,7 +242,13 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     Returns
     -------
     Compatibility
+        Not compatible, and ``finite`` False, where a residual is infinite or NaN (module docstring, "Range").
     """
+    with np.errstate(all="ignore"):  # an overflow shows as a non-finite residual, which the result reports
+        return _check_compatibility(G, B, h, margin, rtol, guard)
+
+
+def _check_compatibility(G, B, h, margin, rtol, guard) -> Compatibility:
     G, B = np.asarray(G, float), np.asarray(B, float)
     if G.shape != B.shape or G.ndim != 4 or G.shape[:2] != (2, 2) or min(G.shape[2:]) < 5:
         raise InputError(f"G and B must be (2, 2, M, N) fields with M, N >= 5, got {G.shape} and {B.shape}")
@@ -256,6 +282,9 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     floor = float((Bn**2 / np.sqrt(Gn)).max())
     scale = max(max(float(a.max()), float(b.max())) for a, b in norms.values())
     scale = max(scale, floor)
+    # an overflow or a 0/0 anywhere makes the test meaningless (an infinite scale guards every point)
+    finite = bool(np.isfinite(scale)
+                  and all(np.all(np.isfinite(a[..., inner[0], inner[1]])) for a in (T, K_G, K_B, c1, c2)))
     comparisons, mismatch, guarded = {}, 0.0, np.zeros(gauss.shape, bool)
     for k, (u, v) in pairs.items():
         nu, nv = norms[k]
@@ -265,7 +294,7 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
         guarded |= ~ok
         residual = float(diff[~ok].max()) if (~ok).any() else 0.0
         ratio = cosine = None
-        passed = residual <= rtol
+        passed = finite and residual <= rtol
         if ok.any():
             r = (nu / np.where(ok, nv, 1.0))[ok]
             c = (_frame_dot(u, v, G)[inner] / np.where(ok, nu * nv, 1.0))[ok]
@@ -278,10 +307,11 @@ def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: flo
     kscale = max(float(np.abs(K_B[inner]).max()), float(np.abs(K_G[inner]).max()), float((Bn**2 / Gn).max()))
     gauss_max = float(np.abs(gauss).max())
     out = Compatibility(
-        comparisons=comparisons, compatible=all(c.passed for c in comparisons.values()), gauss=gauss_max,
+        comparisons=comparisons, compatible=finite and all(c.passed for c in comparisons.values()), gauss=gauss_max,
         codazzi=(float(np.abs(c1[inner]).max()), float(np.abs(c2[inner]).max())),
         gauss_relative=gauss_max / kscale if kscale > 0 else 0.0, mismatch_relative=mismatch,
-        guarded=float(guarded.mean()), rtol=rtol, fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner]},
+        guarded=float(guarded.mean()), rtol=rtol, finite=finite,
+        fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner]},
     )
     log.debug("compatibility: %s", out.summary())
     return out

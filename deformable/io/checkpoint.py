@@ -59,6 +59,15 @@ def save_checkpoint(path, state, X0, *, scene: str, config: str, backend: str, d
     return path
 
 
+def _numbers(value) -> bool:
+    """Whether ``value`` is a number, or a list or table of such (a controller's memory read from JSON)."""
+    if isinstance(value, dict):
+        return all(isinstance(k, str) and _numbers(v) for k, v in value.items())
+    if isinstance(value, list):
+        return all(_numbers(v) for v in value)
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def _damaged(path, why: str) -> CheckpointError:
     return CheckpointError(f"checkpoint {str(path)!r} is damaged or not a checkpoint: {why}", field="resume",
                            value=str(path))
@@ -112,8 +121,7 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
             out["memory"] = json.loads(str(out["memory"]))
         except ValueError:
             out["memory"] = None
-        if not isinstance(out["memory"], dict) or not all(
-                isinstance(v, (int, float)) and not isinstance(v, bool) for v in out["memory"].values()):
+        if not isinstance(out["memory"], dict) or not _numbers(out["memory"]):
             raise _damaged(path, "its controller memory is not a table of numbers")
     shape = out["X"].shape
     if len(shape) != 2 or shape[1] != 3 or shape[0] < 9:

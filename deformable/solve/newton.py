@@ -48,6 +48,27 @@ The potential's elastic part may carry the scene's springs
 the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
 implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
 
+Loads below the absolute terms of the tolerance. The tolerance has two
+absolute terms, ``atol`` and the round-off floor of the internal forces
+(``1e3 eps max|diag A| max(1, |x|)``); neither may swallow the load itself.
+``atol`` is capped at ``rtol`` times the applied load (max-norm over the free
+degrees of freedom): a sheet whose weight is 4e-14 N a node (``scale = 1e-12``)
+still falls, where an absolute 1e-12 N once accepted its start as converged.
+When the load is at or below the floor (a load far below the elastic force
+scale, e.g. ``eta = 1e20`` N/m against a weight of 0.04 N), the start is not
+accepted on the floor's word: Newton takes at least one step, whose exact
+solve applies the load wherever the factorisation resolves the inertia
+(the free sheet falls on FE at eta = 1e20); a solve whose residual then stays
+of the size of the load warns once (:class:`deformable.errors.LoadBelowRoundOff`)
+that the residual cannot tell the solution and the load may be lost in
+round-off: FD at eta = 1e20, where the stiffness-to-inertia ratio of the
+Newton matrix, 1e18, is beyond double precision and the free sheet does not
+move; and the cloth of ``hanging`` at ``scale = 1e-12``, whose elastic forces'
+round-off (4e-13 N) exceeds its weight (4e-14 N a node), though it swings
+within 0.3 % of its swing at 1e-9 (the round-off forces barely reach its
+rigid swing). A load far above the floor (every ordinary scene) leaves every
+iterate as it was.
+
 Direction filters. A term of the potential may change and bound Newton's
 direction before the search sees it (:class:`DirectionFilter`; the contact
 wing's :class:`deformable.contact.potential.ContactPotential` is one, and
@@ -67,6 +88,7 @@ direction.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -76,7 +98,7 @@ import scipy.sparse as sp
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import make_solver, one_blas_thread
 from ..checks import known_keys
-from ..errors import ConvergenceError, InputError, SingularMatrix
+from ..errors import ConvergenceError, InputError, LoadBelowRoundOff, SingularMatrix
 from .potential import FlatEnergy
 from .search import Candidate, LineSearch
 
@@ -113,6 +135,8 @@ class NewtonReport:
     floor: float = 0.0  # round-off floor the tolerance was raised to, if any (N)
     scale: float = 0.0  # the residual rtol is relative to (N)
     tolerance: float = 0.0  # the residual the solve had to reach (N)
+    load: float | None = None  # max-norm of the applied load on the free dofs, where the tolerance needed it (N)
+    lost: bool = False  # the load was at or below the tolerance and the residual stayed of its size (module docstring)
     factorisations: int = 0
     fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
     seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
@@ -133,6 +157,8 @@ class NewtonSettings:
         largest position difference from a solve to rtol = 1e-10: 5.9e-5 m at the default rtol = 1e-3
         (1.65 iterations a step), 1.4e-6 m at 1e-4 (2.05), against 3.5e-2 m between dt and dt / 2: the
         Newton error is 0.2 % of the scheme's own. A study of temporal order asks for less (e.g. 1e-10).
+        atol is capped at rtol times the applied load, so that it never swallows a load far below 1 N
+        (module docstring, "Loads below the absolute terms of the tolerance").
     max_iter : int
         Iterations per solve (0 allowed: a solve that must already be converged).
     hessian : str
@@ -218,6 +244,17 @@ class Newton:
         self._floor = 0.0
         self._damping = None  # an extra damping matrix of the current solve (already times c_C)
         self._stiffness = None  # with a filter: the Newton matrix's diagonal without the filter's Hessian (3 ndof,)
+        self._warned = False  # LoadBelowRoundOff said once for this object (one run)
+
+    @property
+    def floor(self) -> float:
+        """The round-off floor of the last Newton matrix (N), where the next solve's tolerance starts; a
+        resumed run sets it (:meth:`deformable.TimeStepper.restore`)."""
+        return self._floor
+
+    @floor.setter
+    def floor(self, value: float) -> None:
+        self._floor = float(value)
 
     def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
         """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
@@ -279,7 +316,7 @@ class Newton:
         report.seconds["factor"] += time.perf_counter() - t0
 
     def minimise(self, phi, grad, x, cm: float = 0.0, cc: float = 0.0, label: str = "Newton", damping=None,
-                 scale: float | None = None):
+                 scale: float | None = None, load: float | None = None):
         """Minimise phi over the free degrees of freedom from x (held ones stay); returns (x, NewtonReport).
 
         OpenBLAS keeps one thread meanwhile (:func:`deformable.algebra.solvers.one_blas_thread`).
@@ -297,11 +334,26 @@ class Newton:
             wind's damping times c_C), on the same pattern in every solve.
         scale : float, optional
             The residual (N) that ``rtol`` is relative to; default the residual at x.
+        load : float, optional
+            The max-norm of the applied load on the free degrees of freedom (N), which no absolute term of
+            the tolerance may swallow (module docstring); default that of ``problem.load(problem.t)``,
+            evaluated only when an absolute term exceeds ``rtol * scale``.
         """
         with one_blas_thread():
-            return self._minimise(phi, grad, x, cm, cc, label, damping, scale)
+            return self._minimise(phi, grad, x, cm, cc, label, damping, scale, load)
 
-    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale):
+    def _load(self, load) -> float | None:
+        """The max-norm of the applied load over the free degrees of freedom (N): ``load``, else the problem's (None
+        for a problem without loads, ``load(t)`` and ``t``)."""
+        if load is not None:
+            return float(load)
+        p = self.problem
+        if not callable(getattr(p, "load", None)):
+            return None
+        F = p.load(getattr(p, "t", 0.0))[p.free]
+        return float(np.max(np.abs(F))) if F.size else 0.0
+
+    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale, load):
         s, p = self.settings, self.problem
         free = p.free
         report = NewtonReport(floor=self._floor)
@@ -311,9 +363,16 @@ class Newton:
         g = grad(x)[free]
         r0 = float(np.max(np.abs(g))) if g.size else 0.0
         report.scale = r0 if scale is None else float(scale)
-        target = report.tolerance = max(s.rtol * report.scale, s.atol, report.floor)
+        atol, start = s.atol, None
+        if max(atol, report.floor) > s.rtol * report.scale:  # an absolute term binds: it must not swallow the load
+            report.load = F = self._load(load)
+            if F is not None and s.rtol > 0 and F > 0:
+                atol = min(atol, s.rtol * F)
+            if F is not None and 0 < F <= max(s.rtol * report.scale, atol, report.floor):  # the floor may not stop it
+                start = max(s.rtol * report.scale, atol)
+        target = report.tolerance = max(s.rtol * report.scale, atol, report.floor)
         report.residuals.append(r0)
-        if r0 <= target:
+        if r0 <= (target if start is None else start):
             report.converged = True
             return x, report
         search = self.search(phi, grad, free, s.armijo, label)
@@ -351,7 +410,26 @@ class Newton:
             if moved <= 1e-15 * max(1.0, float(np.max(np.abs(x)))):  # no move left: round-off, or stuck
                 report.converged = report.residuals[-1] <= 1e3 * target
                 break
+        if report.load is not None or report.tolerance > s.rtol * report.scale:
+            self._check_load(report, load, label)
         return x, report
+
+    def _check_load(self, report: NewtonReport, load, label: str) -> None:
+        """Warn (once) when the tolerance accepted a residual as large as the load and the residual stayed of the
+        load's size: the load is lost in round-off (module docstring)."""
+        if report.load is None:
+            report.load = self._load(load)
+        F = report.load
+        report.lost = bool(F is not None and 0 < F <= report.tolerance and report.residuals[-1] > 0.5 * F)
+        if report.lost and not self._warned:
+            self._warned = True
+            warnings.warn(f"{label}: the applied load ({F:.3g} N at most on a degree of freedom) is below the "
+                          f"round-off floor of the elastic forces ({report.floor:.3g} N, the largest at the iterates), "
+                          f"and the residual left after {report.iterations} Newton iterations "
+                          f"({report.residuals[-1]:.3g} N) is of the load's size: the residual cannot tell the "
+                          "solution, and the load may be lost in round-off, what it drives not computed (a "
+                          "stiffness eta, xi too large against the loads and the inertia for double precision, or "
+                          "iterates far from the solution)", LoadBelowRoundOff, stacklevel=4)
 
     def _candidates(self, x, g, d, slope, inertia: bool):
         """The line search's candidates: Newton's direction d (free) with its slope, or, with the potential's

@@ -10,7 +10,10 @@ where a compared vector vanishes (a plane, a cylinder) the ratio and the
 cosine are undefined and the residual |u - v| is the test instead.
 
 Prints the verdict and the numbers behind it; exit code 0 when compatible,
-1 when not, 2 on bad input (one line on stderr).
+1 when not, or when the test is not computable (a residual infinite or NaN:
+rest tensors whose products leave double precision,
+:attr:`deformable.geometry.compatibility.Compatibility.finite`), 2 on bad
+input (one line on stderr).
 """
 
 from __future__ import annotations
@@ -51,11 +54,12 @@ def execute(args) -> int:
         raise InputError(f"grid {args.grid!r}: the test needs at least 9 points a side")
     result = check_rest_state(scene, nodes, rtol=rtol)
     grid = nodes or tuple(max(n, 33) for n in scene.sheet.nodes)
-    verdict = "compatible" if result.compatible else "NOT compatible"
+    verdict = ("compatible" if result.compatible else "NOT compatible" if result.finite else
+               "NOT testable: residuals that are not finite (the rest tensors leave double precision)")
     print(f"{cfg.scene}: rest state {verdict} (the paper's test of eq. (10) on {grid[0]}x{grid[1]} points, "
           f"tolerance {rtol:g})")
     for name, c in result.comparisons.items():
-        print(f"  {name}: {'pass' if c.passed else 'FAIL'}: {c.describe()}")
+        print(f"  {name}: {'pass' if c.passed else 'FAIL' if result.finite else 'not computable'}: {c.describe()}")
     print(f"  Gauss equation residual {result.gauss:.3g} 1/m^2, Mainardi-Codazzi residuals {result.codazzi[0]:.3g}, "
           f"{result.codazzi[1]:.3g}")
-    return 0 if result.compatible else 1
+    return 0 if result.compatible and result.finite else 1
