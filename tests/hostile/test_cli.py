@@ -22,19 +22,12 @@ from deformable.io.folder import LOCK
 from validation.commands import main
 from validation.harness.backends import make_model
 
+from .conftest import refused, run_command
+
 SMALL = ["--grid", "6x6", "--steps", "4"]
 
 
-def _run(argv, capsys):
-    code = main([str(a) for a in argv])
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def _refused(code, err, message):
-    assert code == 2, err
-    assert len(err.strip().splitlines()) == 1 and message in err, err
-    assert "Traceback" not in err
+_run, _refused = run_command, refused
 
 
 def _contents(folder: Path) -> dict:

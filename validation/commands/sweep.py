@@ -5,17 +5,22 @@ r"""``deformable sweep``: a scene run over the cartesian product of config value
     deformable sweep SCENE|FILE.toml KEY=V1,V2,... [KEY=START:STOP:NUM[:log] ...]
                      [--backend fd|fe|fd,fe] [--measure NAME,...] [--out DIR]
                      [--jobs N | --scheduler local:N|tcp://HOST:PORT|FILE]
-                     [--fail-on-error] [--compare-serial]
+                     [--max-cases N] [--fail-on-error] [--compare-serial]
 
 Each ``KEY=...`` names a field of the scene's config (``dataclasses.fields``
 of :func:`deformable.scenes.config`; a TOML scene file gives the base) and
 its values: a comma-separated list, where an item may be a range
-``START:STOP:NUM`` (NUM values, ends included; ``:log`` for geometric
-spacing); a key given one value is a fixed override (``nodes=12x12``,
-``t_end=0.5``). Every combination, on every backend of ``--backend``, is
-one run (:mod:`validation.harness.sweep`), through the executor layer
-(:mod:`validation.harness.runner`): serial by default, ``--jobs N`` local
-processes, or Dask with ``--scheduler``.
+``START:STOP:NUM`` (NUM values, ends included, both finite; ``:log`` for
+geometric spacing); a key given one value is a fixed override
+(``nodes=12x12``, ``t_end=0.5``). Every combination, on every backend of
+``--backend``, is one run (:mod:`validation.harness.sweep`), through the
+executor layer (:mod:`validation.harness.runner`): serial by default,
+``--jobs N`` local processes, or Dask with ``--scheduler``.
+
+The cases are counted before any is built: a sweep of more than
+``--max-cases`` (default 100 000), or a range of more values than that, is
+refused in one line naming the count (``eta=1:2:100000 xi=0:1:100000``, 1e10
+cases, is refused at once; it used to run out of memory building them).
 
 Output (default ``sweeps/<scene>/``): ``sweep.csv``, ``sweep.md``,
 ``sweep.toml`` and, for two swept keys, the map ``sweep.png``; each case's
@@ -23,13 +28,23 @@ record in ``cases/``, written as it finishes. Run the same command again
 and only the cases not stored yet run (a killed sweep continues where it
 stopped). Progress (cases done, time left) goes to stderr.
 
-A case that diverges, or fails (a value the scene refuses, a solver error),
-is a row with its status and message; the exit code is 0 unless
-``--fail-on-error`` is given and some case did not finish (then 1). Bad
-input (an unknown scene, key, backend or measure, a value that is not a
-number, a malformed range, a scheduler spec that is neither local:N, an
-address nor a file, Dask missing) is one line on stderr and exit code 2
-before anything is written.
+A case that diverges, stops or stalls is a row with its status; so is a case
+that fails (a value the scene refuses, a solver error, a worker process that
+died each time it ran the case), with its message. A worker process that dies
+(killed, out of memory) is replaced and its case runs again, up to 3 times, on
+the pool as on Dask; the cases that had not started run as they would have.
+Exit code: 0 when no case failed; 1 when some failed, said by the last line
+(``sweep: N of M cases failed; ...`` on stderr), or with ``--fail-on-error``
+when some case did not finish. Bad input (an unknown scene, key, backend or
+measure, a value that is not a number, a malformed range or one with an end
+that is not finite, a sweep above ``--max-cases``, a scheduler spec that is
+neither local:N, an address nor a file, Dask missing) is one line on stderr
+and exit code 2 before anything is written.
+
+Ctrl-C (SIGINT to the terminal's process group) ends the sweep: the workers,
+pool or Dask, ignore it and are stopped by this process, the cases finished
+so far stay stored, and the one line ``interrupted`` goes to stderr, exit code
+130. The same command continues the sweep.
 
 ``--compare-serial`` is a measurement: it runs every case (none taken from
 the folder) on the chosen executor, then again serially in this process,
@@ -52,11 +67,12 @@ from pathlib import Path
 import numpy as np
 
 from deformable import scenes
-from deformable.checks import known_keys
+from deformable.checks import count, known_keys
+from deformable.errors import InputError, ResourceError
 from validation.harness.backends import BACKENDS
 from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
-from validation.harness.sweep import MEASURES, STATUSES, Sweep, write_outputs
+from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, write_outputs
 
 from .run import parse_grid
 from .validate import check_jobs, executor_options
@@ -78,8 +94,10 @@ def configure(parser) -> None:
                         help=f"extra columns, at the end of each run: {', '.join(MEASURES)} (default: none)")
     parser.add_argument("--out", default=None, metavar="DIR", help="output folder (default: sweeps/<scene>)")
     executor_options(parser)
+    parser.add_argument("--max-cases", type=int, default=MAX_CASES, metavar="N",
+                        help="refuse a sweep of more than N cases, counted before any is built (default: %(default)s)")
     parser.add_argument("--fail-on-error", action="store_true",
-                        help="exit 1 when a case did not finish (diverged, failed, ...)")
+                        help="exit 1 also when a case diverged, stopped or stalled (a failed case always exits 1)")
     parser.add_argument("--compare-serial", action="store_true",
                         help="measure: run every case on the executor and then serially; report both wall times "
                         "and whether the numbers agree bit for bit")
@@ -90,58 +108,73 @@ def _number(key: str, text: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise ValueError(f"sweep value of {key} must be a number, got {text!r}") from None
+        raise InputError(f"sweep value of {key} must be a number, got {text!r}", field=key, value=text) from None
 
 
-def _values(key: str, item: str, default) -> list:
-    """One comma-separated item of ``key=...``: a value, or a range ``start:stop:num[:log]`` of a number field."""
+def _values(key: str, item: str, default, limit: int = MAX_CASES) -> list:
+    """One comma-separated item of ``key=...``: a value, or a range ``start:stop:num[:log]`` of a number field.
+
+    A range needs finite ends and at most ``limit`` values (``--max-cases``), checked before they are made.
+    """
     item = item.strip()
     if isinstance(default, tuple):
+        if len(default) != 2:  # the obstacles: tables, not a pair of numbers
+            raise InputError(f"a sweep cannot vary {key}: its value is a list of tables, not a number or a pair; "
+                             "set it in a scene file", field=key, value=item)
         if all(isinstance(v, int) for v in default):  # the node grid: MxN, or N for N x N
             return [parse_grid(item if re.search("[xX]", item) else f"{item}x{item}")]
         parts = re.split(r"\s*[xX]\s*", item)
         if len(parts) > 2 or not all(parts):
-            raise ValueError(f"sweep value of {key} must be AxB or A (for AxA), got {item!r}")
+            raise InputError(f"sweep value of {key} must be AxB or A (for AxA), got {item!r}", field=key, value=item)
         pair = [_number(key, p) for p in parts]
         return [tuple(pair if len(pair) == 2 else pair * 2)]
     if isinstance(default, str):
         if not item:
-            raise ValueError(f"sweep value of {key} is empty")
+            raise InputError(f"sweep value of {key} is empty", field=key, value=item)
         return [item]
     if ":" not in item:
         return [_number(key, item)]
     parts = item.split(":")
     log_spaced = len(parts) == 4 and parts[3] == "log"
     if len(parts) != 3 and not log_spaced:
-        raise ValueError(f"sweep range of {key} must be START:STOP:NUM or START:STOP:NUM:log, got {item!r}")
+        raise InputError(f"sweep range of {key} must be START:STOP:NUM or START:STOP:NUM:log, got {item!r}",
+                         field=key, value=item)
     start, stop = _number(key, parts[0]), _number(key, parts[1])
-    if not parts[2].isdigit() or int(parts[2]) < 2:
-        raise ValueError(f"sweep range {key}={item} needs NUM >= 2 values, got {parts[2]!r}")
+    if not (parts[2].isascii() and parts[2].isdigit()) or int(parts[2]) < 2:
+        raise InputError(f"sweep range {key}={item} needs NUM >= 2 values, got {parts[2]!r}", field=key, value=item)
+    for end, text in ((start, parts[0]), (stop, parts[1])):
+        if not math.isfinite(end):
+            raise InputError(f"sweep range {key}={item}: START and STOP must be finite, got {text!r}",
+                             field=key, value=item)
     if log_spaced and not (start > 0 and stop > 0):
-        raise ValueError(f"sweep range {key}={item}: a log range needs START and STOP > 0")
+        raise InputError(f"sweep range {key}={item}: a log range needs START and STOP > 0", field=key, value=item)
+    num = int(parts[2])
+    if num > limit:
+        raise ResourceError(f"sweep range {key}={item} has {num} values, more than --max-cases {limit}",
+                            field=key, value=item)
+    if not log_spaced and not math.isfinite(stop - start):  # finite ends, but their step would overflow
+        raise InputError(f"sweep range {key}={item} spans more than a float can hold", field=key, value=item)
     spaced = np.geomspace if log_spaced else np.linspace
-    return [float(v) for v in spaced(start, stop, int(parts[2]))]
+    return [float(v) for v in spaced(start, stop, num)]
 
 
-def parse_axis(base, text: str) -> tuple[str, tuple]:
-    """``"key=v1,v2,start:stop:num,..."`` -> (key, values) for the config ``base``; ValueError on bad input.
+def parse_axis(base, text: str, limit: int = MAX_CASES) -> tuple[str, tuple]:
+    """``"key=v1,v2,start:stop:num,..."`` -> (key, values) for the config ``base``; InputError on bad input.
 
     Values are typed by the field's default: numbers; ``MxN`` (or ``N``) for the node grid; ``AxB``
-    (or ``A``) for the other pairs (size, rest_metric); text for the others (force_model). Whether
-    the scene accepts a value is decided by each case (a refused one is a failed row).
+    (or ``A``) for the other pairs (size, rest_metric); text for the others (force_model); a value
+    given twice counts once. A range has finite ends and at most ``limit`` values. Whether the scene
+    accepts a value is decided by each case (a refused one is a failed row).
     """
     key, sep, rest = str(text).partition("=")
     key = key.strip()
     if not sep or not key:
-        raise ValueError(f"sweep values must be KEY=V1,V2,... or KEY=START:STOP:NUM, got {text!r}")
+        raise InputError(f"sweep values must be KEY=V1,V2,... or KEY=START:STOP:NUM, got {text!r}", value=text)
     if key == "scene":
-        raise ValueError("the scene itself is not a sweep key: run one sweep per scene")
+        raise InputError("the scene itself is not a sweep key: run one sweep per scene", field=key)
     known_keys([key], sorted(f.name for f in fields(base)), f"for scene {base.scene!r}")
-    values = []
-    for item in rest.split(","):
-        for v in _values(key, item, getattr(base, key)):
-            if v not in values:
-                values.append(v)
+    default = getattr(base, key)
+    values = dict.fromkeys(v for item in rest.split(",") for v in _values(key, item, default, limit))
     return key, tuple(values)
 
 
@@ -149,22 +182,25 @@ def _names(text: str, known, what: str) -> tuple[str, ...]:
     names = tuple(dict.fromkeys(n.strip() for n in str(text).split(",")))
     for n in names:
         if n not in known:
-            raise ValueError(f"unknown {what} {n!r}; choose from {', '.join(known)}")
+            raise InputError(f"unknown {what} {n!r}; choose from {', '.join(known)}", field=what, value=n)
     return names
 
 
-def parse_sweep(base, items, backends: str = "fd", measures: str | None = None) -> Sweep:
+def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, max_cases: int = MAX_CASES) -> Sweep:
     """The :class:`Sweep` of command-line text: ``items`` like ``"eta=10,20"``, ``backends`` like ``"fd,fe"``.
 
-    Raises ValueError (one line naming the key and value) on bad input.
+    Raises InputError (one line naming the key and value) on bad input, and ResourceError (naming the count)
+    for a sweep of more than ``max_cases`` cases, counted before any is built.
     """
-    axes = [parse_axis(base, item) for item in items]
+    limit = count("--max-cases", max_cases)
+    axes = [parse_axis(base, item, limit) for item in items]
     keys = [k for k, _ in axes]
     twice = [k for k in dict.fromkeys(keys) if keys.count(k) > 1]
     if twice:
-        raise ValueError(f"sweep key {twice[0]!r} is given twice; list all its values in one KEY=V1,V2,...")
+        raise InputError(f"sweep key {twice[0]!r} is given twice; list all its values in one KEY=V1,V2,...",
+                         field=twice[0])
     return Sweep(base, tuple(axes), _names(backends, BACKENDS, "backend"),
-                 _names(measures, tuple(MEASURES), "measure") if measures else ())
+                 _names(measures, tuple(MEASURES), "measure") if measures else (), max_cases=limit)
 
 
 # -- the command -----------------------------------------------------------------------
@@ -179,15 +215,16 @@ def _case_time(records) -> float:
 
 
 def execute(args) -> int:
-    """``deformable sweep``: 0, or 1 with --fail-on-error when a case did not finish (or --compare-serial differed)."""
+    """``deformable sweep``: 0; 1 when a case failed, with --fail-on-error when one did not finish, or when
+    --compare-serial found the numbers differ (the last line on stderr says which)."""
     base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
-    sweep = parse_sweep(base, args.values, args.backend, args.measure)
+    sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases)
     runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
                     scheduler=args.scheduler)
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
     command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))
-    total = len(sweep.cases())
+    total = sweep.count
     t0 = time.perf_counter()
     with runner:  # a LocalCluster starts here: its start is part of the wall time, its shutdown is not
         records, ran = sweep.run(runner, out, reuse=not args.compare_serial)
@@ -209,11 +246,14 @@ def execute(args) -> int:
     statuses = [r["status"] for r in records]
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in STATUSES if s in statuses)
     print(f"{base.scene}: {counted(total)} ({counts}). {summary} Table: {out / 'sweep.md'}")
-    unfinished = total - statuses.count("finished")
     if differ:
         print("sweep: the executor's numbers differ from the serial run's", file=sys.stderr)
-        return 1
+    unfinished = total - statuses.count("finished")
+    failed = statuses.count("failed")
     if args.fail_on_error and unfinished:
-        print(f"sweep: {unfinished} of {total} cases did not finish (--fail-on-error)", file=sys.stderr)
-        return 1
-    return 0
+        others = ", ".join(f"{statuses.count(s)} {s}" for s in STATUSES[1:] if s in statuses)
+        print(f"sweep: {unfinished} of {total} cases did not finish ({others}; --fail-on-error)", file=sys.stderr)
+    elif failed:
+        print(f"sweep: {failed} of {counted(total)} failed; their messages are in {out / 'sweep.md'}",
+              file=sys.stderr)
+    return 1 if differ or failed or (args.fail_on_error and unfinished) else 0

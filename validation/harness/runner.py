@@ -26,6 +26,18 @@ the first error; :meth:`Runner.completed` yields ``(index, result, error)`` as
 cases finish, so a caller can store each result at once (a sweep that is
 killed keeps what it finished) and turn a failed case into a row.
 
+Faults. A worker process that dies (killed, out of memory, a crash in
+compiled code) is replaced and the case it ran runs again, up to
+:data:`ALLOWED_FAILURES` (3) times: the :class:`Pool` does it as Dask's
+scheduler does (``distributed.scheduler.allowed-failures``); then that case
+alone is an error (``BrokenProcessPool`` on the pool, ``KilledWorker`` on
+Dask). The other cases are not touched: a case that had not started is never
+an error for it. A Ctrl-C, which a terminal sends to the whole process group,
+reaches only this process: the pool's workers ignore SIGINT and a
+LocalCluster's workers are started with it blocked; the KeyboardInterrupt
+here ends the workers quietly on leaving ``with runner:`` (before, Dask's
+workers printed 65-91 lines of tracebacks).
+
 Determinism. A case is computed by the same code on the same inputs wherever
 it runs, so the numbers are bit-identical serially, on the pool and on Dask
 workers of the same machine (tests/validation/harness/test_runner.py). The
@@ -51,9 +63,12 @@ import logging
 import os
 import sys
 import time
-from typing import Any, Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import closing, contextmanager
+from typing import Any
 
-__all__ = ["Runner", "Progress", "parse_scheduler", "DISTRIBUTED_HINT", "duration", "counted"]
+__all__ = ["ALLOWED_FAILURES", "DISTRIBUTED_HINT", "Pool", "Progress", "Runner", "counted", "duration",
+           "parse_scheduler"]
 
 log = logging.getLogger(__name__)
 
@@ -61,6 +76,8 @@ log = logging.getLogger(__name__)
 DISTRIBUTED_HINT = 'pip install ".[distributed]" (Dask distributed) in the project folder'
 #: seconds to wait for a remote scheduler to answer
 CONNECT_TIMEOUT = 20
+#: times a case runs again after its pool worker died (Dask's default distributed.scheduler.allowed-failures)
+ALLOWED_FAILURES = 3
 
 
 def parse_scheduler(spec: str) -> tuple[str, Any]:
@@ -121,6 +138,59 @@ def _start_worker(parent: int | None) -> None:
         os._exit(1)
 
 
+def _serve(connection, parent: int | None) -> None:
+    """A pool worker: run ``(fn, case)`` after ``(fn, case)`` read from ``connection``; send back (result, error).
+
+    A Ctrl-C (SIGINT, sent by a terminal to the whole process group) is ignored: the parent handles it and ends
+    the workers. The worker returns on None, or when the parent's end is closed.
+    """
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _start_worker(parent)
+    while True:
+        try:
+            task = connection.recv()
+        except EOFError:
+            return
+        if task is None:
+            return
+        fn, case = task
+        try:
+            outcome = fn(case), None
+        except Exception as err:  # noqa: BLE001 - handed to the caller, which raises it or tabulates it
+            outcome = None, err
+        try:
+            connection.send(outcome)
+        except Exception as err:  # noqa: BLE001 - a result or error that cannot be pickled
+            connection.send((None, RuntimeError(f"the case's outcome cannot be sent back: {err}")))
+
+
+@contextmanager
+def _interrupts_blocked():
+    """Block SIGINT in this thread meanwhile, and so in the threads it starts and the processes they start.
+
+    A Dask LocalCluster started inside runs its event loop on a thread of its own, which spawns the workers,
+    and restarts a worker that died: a mask of blocked signals is inherited by new threads and processes, so
+    a Ctrl-C in a terminal (SIGINT to the whole process group) reaches only this process's main thread. The
+    workers print nothing (they printed 65-91 lines of tracebacks); this process stops them on the way out.
+    A Ctrl-C while blocked is handled when the block ends. multiprocessing's resource tracker is started first:
+    starting it unblocks SIGINT in the thread that does (CPython bpo-33613), which would be Dask's.
+    """
+    import signal
+    from multiprocessing import resource_tracker
+
+    if not hasattr(signal, "pthread_sigmask"):  # not POSIX
+        yield
+        return
+    resource_tracker.ensure_running()
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _restore_environ(saved: dict) -> None:
     """Set os.environ back to ``saved``: Dask's nanny sets its workers' variables here to spawn them, and leaves them."""
     for name in os.environ.keys() - saved.keys():
@@ -130,7 +200,7 @@ def _restore_environ(saved: dict) -> None:
 
 def duration(seconds: float) -> str:
     """A duration for people: ``"42 s"``, ``"3 min 20 s"``, ``"2 h 05 min"``."""
-    s = int(round(seconds))
+    s = round(seconds)
     if s < 60:
         return f"{max(seconds, 0):.0f} s" if seconds >= 10 else f"{max(seconds, 0):.1f} s"
     if s < 3600:
@@ -181,6 +251,123 @@ class Progress:
             self._bar.close()
 
 
+def _death(exitcode: int | None) -> str:
+    """How a process ended, in words: ``"killed by SIGKILL"``, ``"exit code 1"``."""
+    import signal
+
+    if exitcode is not None and exitcode < 0:
+        try:
+            return f"killed by {signal.Signals(-exitcode).name}"
+        except ValueError:
+            return f"killed by signal {-exitcode}"
+    return f"exit code {exitcode}"
+
+
+class Pool:
+    """``jobs`` local worker processes, each running one case at a time; a worker that dies is replaced.
+
+    A case whose worker died (killed, out of memory, a crash in compiled code) runs again on a new worker,
+    up to :data:`ALLOWED_FAILURES` times, as on Dask (``distributed.scheduler.allowed-failures``); after that
+    it is given up with a ``BrokenProcessPool`` error naming how its worker ended. The other cases are not
+    touched: those running go on, those waiting start as they would have. (concurrent.futures'
+    ProcessPoolExecutor, used before, failed every pending case when one worker died.)
+
+    Workers are forked from this process, imports and all, which is fast; but a process with other threads
+    (a Dask client's event loop, say) could be forked while one holds a lock: then the forkserver's clean,
+    single-threaded process forks them instead. A worker ignores Ctrl-C (SIGINT); :meth:`close` ends it.
+    """
+
+    def __init__(self, jobs: int):
+        import multiprocessing as mp
+        import threading
+
+        method = "fork" if threading.active_count() == 1 else "forkserver"
+        self.jobs, self._context = jobs, mp.get_context(method)
+        self._parent = os.getpid() if method == "fork" else None
+        self._workers: dict = {}  # connection -> process, every live worker
+        self._idle = [self._start() for _ in range(jobs)]
+
+    def _start(self):
+        ours, theirs = self._context.Pipe()
+        process = self._context.Process(target=_serve, args=(theirs, self._parent), daemon=True,
+                                        name="deformable pool worker")
+        process.start()
+        theirs.close()
+        self._workers[ours] = process
+        return ours
+
+    def completed(self, fn: Callable, cases: list) -> Iterator[tuple[int, Any, Exception | None]]:
+        """Yield ``(index, fn(cases[index]), None)`` or ``(index, None, error)`` as each case finishes.
+
+        Leaving the loop early ends the cases running (their workers are terminated and replaced later).
+        """
+        from collections import deque
+        from concurrent.futures.process import BrokenProcessPool
+        from multiprocessing.connection import wait
+
+        waiting, deaths = deque(range(len(cases))), [0] * len(cases)
+        busy: dict = {}  # connection -> index of the case its worker runs
+        try:
+            while waiting or busy:
+                while waiting and len(busy) < self.jobs:
+                    connection = self._idle.pop() if self._idle else self._start()
+                    i = waiting.popleft()
+                    try:
+                        connection.send((fn, cases[i]))
+                    except Exception as err:  # noqa: BLE001 - a case that cannot be pickled
+                        self._idle.append(connection)
+                        yield i, None, err
+                        continue
+                    busy[connection] = i
+                if not busy:  # no case could be sent: nothing to wait for
+                    continue
+                for connection in wait(list(busy)):
+                    i = busy.pop(connection)
+                    try:
+                        result, error = connection.recv()
+                    except (EOFError, OSError):  # the worker died running case i
+                        process = self._workers.pop(connection)
+                        process.join()
+                        connection.close()
+                        deaths[i] += 1
+                        if deaths[i] > ALLOWED_FAILURES:
+                            yield i, None, BrokenProcessPool(f"its worker process died {deaths[i]} times running it "
+                                                             f"(last {_death(process.exitcode)})")
+                        else:
+                            log.warning("a worker process died running a case (%s); the case runs again on a new "
+                                        "worker (attempt %d of %d)", _death(process.exitcode), deaths[i] + 1,
+                                        ALLOWED_FAILURES + 1)
+                            waiting.appendleft(i)
+                        continue
+                    except Exception as err:  # noqa: BLE001 - an outcome this process cannot unpickle
+                        result, error = None, err
+                    self._idle.append(connection)
+                    yield i, result, error
+        finally:
+            for connection in busy:  # left early: the cases running now are not wanted
+                if connection in self._workers:  # (not closed already)
+                    self._stop(connection, now=True)
+
+    def _stop(self, connection, now: bool) -> None:
+        process = self._workers.pop(connection)
+        if now:
+            process.terminate()
+        else:  # None, not only the closed end: a worker forked later holds a copy of this end
+            try:
+                connection.send(None)
+            except OSError:  # it died meanwhile
+                pass
+        connection.close()
+        process.join()
+        if connection in self._idle:
+            self._idle.remove(connection)
+
+    def close(self, now: bool = False) -> None:
+        """Stop every worker: at once (SIGTERM) when ``now``, else once it has finished its case (none runs here)."""
+        for connection in list(self._workers):
+            self._stop(connection, now)
+
+
 class Runner:
     """Maps a case function over independent cases: serially, on a process pool or on Dask workers.
 
@@ -213,28 +400,19 @@ class Runner:
 
     # -- lifetime ---------------------------------------------------------------
     def __enter__(self):
-        if self.scheduler is not None:
-            self._connect(*self.scheduler)
-        elif self.jobs > 1:
-            import multiprocessing as mp
-            import threading
-            from concurrent.futures import ProcessPoolExecutor
-
-            # fork copies this process, imports and all, and is fast; but a process with other threads (a Dask
-            # client's event loop, say) could be forked while one holds a lock: then the forkserver's clean,
-            # single-threaded process forks the workers instead
-            method = "fork" if threading.active_count() == 1 else "forkserver"
-            self._pool = ProcessPoolExecutor(self.jobs, mp_context=mp.get_context(method),
-                                             initializer=_start_worker,
-                                             initargs=(os.getpid() if method == "fork" else None,))
+        try:
+            if self.scheduler is not None:
+                self._connect(*self.scheduler)
+            elif self.jobs > 1:
+                self._pool = Pool(self.jobs)
+        except BaseException:  # a Ctrl-C while the workers start: stop those started
+            self.__exit__(*sys.exc_info())
+            raise
         return self
 
     def __exit__(self, exc_type, *exc):
         if self._pool is not None:
-            if exc_type is not None:  # interrupted or failed: end the cases running now instead of waiting for them
-                for process in list(getattr(self._pool, "_processes", {}).values()):  # no public way before 3.14
-                    process.terminate()
-            self._pool.shutdown(cancel_futures=True)
+            self._pool.close(now=exc_type is not None)  # interrupted or failed: end the cases running now
             self._pool = None
         if self._client is not None:
             self._client.close()
@@ -255,7 +433,8 @@ class Runner:
             # which costs these allocation-heavy cases about 10 % (measured: FD 24 x 24, 2000 steps, 3.1 s
             # against 3.45 s); None unsets it, so glibc's own adaptive thresholds apply
             self._environ = dict(os.environ)
-            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}), \
+                    _interrupts_blocked():
                 self._cluster = distributed.LocalCluster(n_workers=where, threads_per_worker=1, processes=True,
                                                          dashboard_address=None, silence_logs=logging.ERROR)
             _restore_environ(self._environ)
@@ -296,33 +475,37 @@ class Runner:
     def completed(self, fn: Callable, cases: Iterable, desc: str = "") -> Iterator[tuple[int, Any, Exception | None]]:
         """Yield ``(index, fn(cases[index]), None)``, or ``(index, None, error)``, as each case finishes.
 
-        Leaving the loop early cancels the cases not yet started.
+        Leaving the loop early cancels the cases not yet started and ends those running; to do it at once
+        (an exception in the loop keeps the generator alive in its traceback), close the generator, e.g.
+        ``with contextlib.closing(runner.completed(...)) as outcomes:``, as :meth:`map` does.
         """
         if not self.active:
             raise RuntimeError("a Runner with workers maps inside `with runner:`")
         cases = list(cases)
         progress = Progress(len(cases), desc, enabled=self.progress)
+        if self._client is not None:
+            finished = self._dask(fn, cases)
+        elif self._pool is not None:
+            finished = self._pool.completed(fn, cases)
+        else:
+            finished = self._serial(fn, cases)
         try:
-            if self._client is not None:
-                finished = self._dask(fn, cases)
-            elif self._pool is not None:
-                finished = self._pooled(fn, cases)
-            else:
-                finished = self._serial(fn, cases)
             for item in finished:
                 yield item
                 progress.update()  # after the caller has taken the result (a sweep has stored it)
         finally:
+            finished.close()  # now, while the workers are there
             progress.close()
 
     def map(self, fn: Callable, cases: Iterable, desc: str = "") -> list[Any]:
         """``[fn(c) for c in cases]`` in order; the first error a case raises is raised here."""
         cases = list(cases)
         out: list[Any] = [None] * len(cases)
-        for i, result, error in self.completed(fn, cases, desc):
-            if error is not None:
-                raise error
-            out[i] = result
+        with closing(self.completed(fn, cases, desc)) as outcomes:
+            for i, result, error in outcomes:
+                if error is not None:
+                    raise error
+                out[i] = result
         return out
 
     @staticmethod
@@ -335,28 +518,22 @@ class Runner:
             else:
                 yield i, result, None
 
-    def _pooled(self, fn, cases):
-        from concurrent.futures import as_completed
-
-        futures = {self._pool.submit(fn, c): i for i, c in enumerate(cases)}
-        try:
-            for future in as_completed(futures):
-                error = future.exception()
-                yield futures[future], None if error else future.result(), error
-        finally:
-            for future in futures:
-                future.cancel()
-
     def _dask(self, fn, cases):
         distributed = _distributed()
         futures = self._client.map(fn, cases, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
+        # with_results: the results are gathered on the client's event loop, so this thread only waits on a
+        # condition, and a Ctrl-C (KeyboardInterrupt) ends that wait and nothing of Dask's half-way
+        done = distributed.as_completed(futures, loop=self._client.loop,  # not the default client's
+                                        with_results=True, raise_errors=False)
         try:
-            for future in distributed.as_completed(futures, loop=self._client.loop):  # not the default client's
-                try:
-                    result, error = future.result(), None
-                except Exception as err:  # noqa: BLE001 - the case's own error, or a lost worker
-                    result, error = None, err
-                yield index[future.key], result, error
+            for future, result in done:
+                if future.status == "error":  # the case's own error, or KilledWorker: its workers died too often
+                    yield index[future.key], None, result[1]
+                elif future.status == "cancelled":
+                    yield index[future.key], None, result
+                else:
+                    yield index[future.key], result, None
         finally:
-            self._client.cancel([f for f in futures if not f.done()])
+            if self._client is not None:  # (not closed already)
+                self._client.cancel([f for f in futures if not f.done()])

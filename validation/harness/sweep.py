@@ -2,6 +2,11 @@ r"""Parameter sweeps: the cartesian product of scene-config values, each case on
 
 A :class:`Sweep` is a base scene config (:mod:`deformable.scenes`), axes
 ``key = (v1, v2, ...)`` over the config's fields and one or more backends.
+Its cases are counted (:attr:`Sweep.count`, the backends times the values of
+every axis) when it is made, before any is built: a product above
+``max_cases`` (default :data:`MAX_CASES`, 100 000) is refused with a
+:class:`~deformable.errors.ResourceError` naming the count (a sweep of 1e10
+cases used to build them until memory ran out).
 Every combination is a :class:`SweepCase`, run by :func:`run_case`: the scene
 built from the config, ``make_model(scene, backend)``, and
 :class:`deformable.TimeStepper` from the initial state to the config's t_end
@@ -18,7 +23,11 @@ energy of eq. (13) (J), the largest edge stretch and node speed over the run,
 its wall time, and the measures asked for (:data:`MEASURES`).
 
 Cases are independent and go through a :class:`~validation.harness.runner.Runner`
-(serial, process pool or Dask). Each finished case is stored at once as
+(serial, process pool or Dask). A case whose worker process died runs again on
+a new worker (the pool and Dask alike, up to 3 times); a case given up after
+that is a ``failed`` row, its message starting ``worker:``, and the cases that
+had not started run as they would have. An interrupted sweep (Ctrl-C) stores
+what finished and nothing for the others. Each finished case is stored at once as
 ``OUT/cases/<key>.json`` (written to a temporary name and renamed, so a kill
 never leaves half a file), the key a digest of the scene, the full resolved
 config and the backend. A sweep started again in the same folder takes the
@@ -43,30 +52,32 @@ import logging
 import math
 import os
 import time
-from contextlib import contextmanager
+from contextlib import closing, contextmanager
 from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
 
 import deformable as dm
-from deformable import scenes
+from deformable import checks, scenes
 from deformable.dynamics.trackers import DivergenceGuard, Tracker
-from deformable.errors import InputError
+from deformable.errors import InputError, ResourceError
 
 from .backends import backend_dt, descriptor, make_model
 from .report import csv_text, markdown_table
 from .runner import counted
 from .study import Table
 
-__all__ = ["Sweep", "SweepCase", "run_case", "MEASURES", "STATUSES", "FINAL", "load_records", "save_record",
-           "write_outputs", "map_png", "Extremes"]
+__all__ = ["FINAL", "MAX_CASES", "MEASURES", "STATUSES", "Extremes", "Sweep", "SweepCase", "load_records",
+           "map_png", "run_case", "save_record", "write_outputs"]
 
 log = logging.getLogger(__name__)
 
 #: every status a row can have; FINAL ones are kept by a restarted sweep, "failed" cases run again
 STATUSES = ("finished", "diverged", "stopped", "stalled", "failed")
 FINAL = ("finished", "diverged", "stopped", "stalled")
+#: the most cases a sweep may have unless it says otherwise (``--max-cases``)
+MAX_CASES = 100_000
 
 
 # -- measures --------------------------------------------------------------------------
@@ -174,7 +185,7 @@ def run_case(case: SweepCase) -> dict:
     final positions, to compare runs bit for bit).
     """
     t0 = time.perf_counter()
-    record = dict(key=case.key, scene=case.scene, backend=case.backend, fields=dict(case.fields))
+    record = {"key": case.key, "scene": case.scene, "backend": case.backend, "fields": dict(case.fields)}
     try:
         cfg = scenes.config(case.scene, **dict(case.fields))
         model = make_model(scenes.build(cfg), case.backend)
@@ -211,12 +222,28 @@ class Sweep:
     axes : ((key, values), ...) in the order given; an axis of one value is a fixed override
     backends : ("fd",), ("fe",) or both
     measures : names of :data:`MEASURES`
+    max_cases : the most cases allowed; more raise ResourceError (one line naming the count) on construction
     """
 
     base: scenes.SceneConfig
     axes: tuple
     backends: tuple = ("fd",)
     measures: tuple = ()
+    max_cases: int = MAX_CASES
+
+    def __post_init__(self):
+        checks.count("--max-cases", self.max_cases)
+        if self.count > self.max_cases:
+            sizes = " x ".join([counted(len(self.backends), "backend"),
+                                *(f"{len(v)} {k}" for k, v in self.axes if len(v) > 1)])
+            raise ResourceError(f"a sweep of {self.base.scene} with {self.count} cases ({sizes}) is more than "
+                                f"--max-cases {self.max_cases}; sweep fewer values, or raise --max-cases",
+                                field="--max-cases", value=self.count)
+
+    @property
+    def count(self) -> int:
+        """The number of cases: the backends times the number of values of every axis, counted without building any."""
+        return len(self.backends) * math.prod(len(v) for _, v in self.axes)
 
     @property
     def swept(self) -> tuple[str, ...]:
@@ -243,20 +270,24 @@ class Sweep:
     def run(self, runner, out, reuse: bool = True) -> tuple[list[dict], int]:
         """Run the cases not stored in ``out`` yet on ``runner``; returns (records in case order, cases run).
 
-        Each record is stored in ``out/cases`` as it arrives. ``reuse=False`` runs every case.
+        Each record is stored in ``out/cases`` as it arrives. ``reuse=False`` runs every case. A case the
+        runner gave up because its worker died each time is a ``failed`` record (message ``worker: ...``);
+        an interrupt (KeyboardInterrupt) leaves the cases not finished unrecorded.
         """
         cases = self.cases()
         records = load_records(out, cases, self.measures) if reuse else {}
         todo = sorted((c for c in cases if c.key not in records), key=lambda c: -c.cost)
         if records:
             log.info("sweep: %d of %d cases already in %s", len(records), len(cases), out)
-        for i, record, error in runner.completed(run_case, todo, desc=f"sweep {self.base.scene}"):
-            if error is not None:  # the worker itself failed (run_case never raises): the case runs again next time
-                case = todo[i]
-                record = dict(key=case.key, scene=case.scene, backend=case.backend, fields=dict(case.fields),
-                              status="failed", message=f"worker: {_one_line(error)}", wall=float("nan"))
-            save_record(out, record)
-            records[record["key"]] = record
+        with closing(runner.completed(run_case, todo, desc=f"sweep {self.base.scene}")) as outcomes:
+            for i, record, error in outcomes:
+                if error is not None:  # its worker died, every time (run_case never raises): it runs again next time
+                    case = todo[i]
+                    record = {"key": case.key, "scene": case.scene, "backend": case.backend,
+                              "fields": dict(case.fields), "status": "failed",
+                              "message": f"worker: {_one_line(error)}", "wall": float("nan")}
+                save_record(out, record)
+                records[record["key"]] = record
         return [records[c.key] for c in cases], len(todo)
 
     # -- the table ----------------------------------------------------------------------
@@ -267,7 +298,7 @@ class Sweep:
     def row(self, case: SweepCase, record: dict) -> tuple:
         fields_ = dict(case.fields)
         nan = float("nan")
-        get = lambda name: nan if record.get(name) is None else record[name]  # noqa: E731
+        get = lambda name: nan if record.get(name) is None else record[name]
         measures = record.get("measures") or {}
         return (case.backend, *(_cell(fields_[k]) for k in self.swept), record["status"], get("t"),
                 record.get("steps", ""), get("dt"), get("energy"), get("max_stretch"), get("max_speed"),

@@ -95,9 +95,9 @@ def test_values_ranges_and_grids_parse_by_the_field_type():
 
 
 # -- the table -----------------------------------------------------------------------
-def test_one_row_per_case_failures_are_rows_and_the_exit_code_is_0(tmp_path, capsys):
+def test_one_row_per_case_failures_are_rows_and_the_exit_code_is_1(tmp_path, capsys):
     code = sweep(tmp_path, "eta=20,40", "mu=-1,0.2", "--backend", "fd,fe", "--measure", "kinetic,displacement")
-    assert code == 0
+    assert code == 1  # the cases at mu = -1 failed (the scene refuses them); the others are rows as well
     table = rows(tmp_path)
     assert len(table) == 8 and [r["backend"] for r in table] == ["fd"] * 4 + ["fe"] * 4
     assert [(r["eta"], r["mu"]) for r in table[:4]] == [("20.0", "-1.0"), ("20.0", "0.2"), ("40.0", "-1.0"),
@@ -174,16 +174,16 @@ def test_a_killed_sweep_started_again_runs_only_the_missing_cases(tmp_path, runs
 
 
 def test_a_restart_runs_failed_cases_new_values_and_missing_measures_again(tmp_path, runs):
-    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2") == 0
+    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2") == 1  # a case the scene refuses is a failed row
     assert len(runs) == 4
     runs.clear()
-    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2") == 0
+    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2") == 1  # a case the scene refuses is a failed row
     assert len(runs) == 2, "only the two failed cases run again"
     runs.clear()
-    assert sweep(tmp_path, "eta=20,40,80", "mu=-1,0.2") == 0
+    assert sweep(tmp_path, "eta=20,40,80", "mu=-1,0.2") == 1
     assert len(runs) == 4, "the failed cases and the two new ones"
     runs.clear()
-    assert sweep(tmp_path, "eta=20,40,80", "mu=-1,0.2", "--measure", "bending") == 0
+    assert sweep(tmp_path, "eta=20,40,80", "mu=-1,0.2", "--measure", "bending") == 1
     assert len(runs) == 6, "every case: none has the new measure"
     assert len(rows(tmp_path)) == 6
 
@@ -200,7 +200,7 @@ def test_an_unreadable_stored_case_runs_again(tmp_path, runs):
 # -- executors -----------------------------------------------------------------------
 def test_on_dask_the_numbers_are_those_of_a_serial_run(tmp_path, capsys, dask_scheduler):
     address, _ = dask_scheduler
-    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2", "--scheduler", address, "--compare-serial") == 0
+    assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2", "--scheduler", address, "--compare-serial") == 1
     out = capsys.readouterr().out
     assert f"on the Dask scheduler {address} (2 workers)" in out and "numbers bit-identical" in out, out
     assert len(rows(tmp_path)) == 4
