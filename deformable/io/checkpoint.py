@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -160,6 +161,13 @@ class CheckpointWriter(Tracker):
 
     def path(self, step: int) -> Path:
         return self.folder / f"{self.stem}-{step:07d}.npz"
+
+    @staticmethod
+    def found(folder, stem: str) -> dict[int, Path]:
+        """The checkpoints a writer of ``stem`` left in ``folder``, by step (those :meth:`path` names)."""
+        pattern = re.compile(rf"{re.escape(stem)}-(\d+)\.npz")
+        return {int(m.group(1)): p for p in sorted(Path(folder).glob(f"{stem}-*.npz"))
+                if (m := pattern.fullmatch(p.name))}
 
     def handle(self, state):
         if state.step % self.every == 0:

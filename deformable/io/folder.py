@@ -108,17 +108,22 @@ def _runs_python(pid: int) -> bool | None:
     return any(b"python" in Path(os.fsdecode(a)).name.encode() or b"deformable" in a for a in argv[:2])
 
 
-def _owner(folder: Path) -> str | None:
-    """'pid N on HOST' of a live lock in ``folder``; None when there is none or it is stale (:func:`stale`)."""
+def _holder(folder: Path) -> tuple[str | None, str | None]:
+    """The lock in ``folder``: ('pid N on HOST', None) when it is live, (None, why) when it is stale
+    (:func:`stale`), (None, None) when there is none."""
     lock = folder / LOCK
     try:
         pid, host = lock.read_text().split()[:2]
         pid = int(pid)
     except (OSError, ValueError):
-        return None if not lock.exists() else "an unknown run"
-    if host == socket.gethostname() and stale(lock, pid) is not None:
-        return None
-    return f"pid {pid} on {host}"
+        return (None if not lock.exists() else "an unknown run"), None
+    why = stale(lock, pid) if host == socket.gethostname() else None
+    return (None, why) if why is not None else (f"pid {pid} on {host}", None)
+
+
+def _owner(folder: Path) -> str | None:
+    """'pid N on HOST' of a live lock in ``folder``; None when there is none or it is stale (:func:`stale`)."""
+    return _holder(folder)[0]
 
 
 def stale(lock: Path, pid: int) -> str | None:
@@ -245,12 +250,14 @@ class RunFolder:
             try:
                 fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
             except FileExistsError:
-                owner = _owner(self.path)
+                owner, why = _holder(self.path)
                 if owner is not None:
                     raise OutputFolderError(f"output folder {str(self.path)!r} is in use by another run ({owner}; "
                                             f"lock file {LOCK}); choose another --out", field="out",
                                             value=str(self.path)) from None
-                self._clear(lock)
+                lock.unlink(missing_ok=True)
+                if why is not None:  # (None: the lock went away meanwhile)
+                    log.warning("cleared the stale lock %s: %s", lock, why)
                 continue
             except OSError as err:
                 raise OutputFolderError(f"cannot write to output folder {str(self.path)!r}: {err.strerror or err}",
@@ -260,17 +267,6 @@ class RunFolder:
             self._locked = True
             return
         raise OutputFolderError(f"cannot lock output folder {str(self.path)!r}", field="out", value=str(self.path))
-
-    @staticmethod
-    def _clear(lock: Path) -> None:
-        """Remove a stale lock (:func:`stale`), saying whose it was and why it is stale."""
-        try:
-            pid = int(lock.read_text().split()[0])
-            why = stale(lock, pid) or "its run is gone"
-        except (OSError, ValueError, IndexError):
-            why = "it names no run"
-        lock.unlink(missing_ok=True)
-        log.warning("cleared the stale lock %s: %s", lock, why)
 
     def release(self):
         """Remove the lock (a finished, diverged or failed run does)."""

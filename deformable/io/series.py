@@ -215,8 +215,10 @@ class XDMFWriter(Tracker):
         """Continue the series at self.path from ``state``: drop the frames after it (module docstring)."""
         import h5py
 
-        kept, dropped = continuation(self.path, state.step, state.t, self.interval, self._step_cadence)
-        frames = list(self._series_root().findall("Grid"))
+        self._root, self._series = _parse(self.path)  # the XML is read once, checked and cut back here
+        frames = list(self._series.findall("Grid"))
+        kept, dropped = _continuation(self.path, _frames(self._series, self.path), state.step, state.t,
+                                      self.interval, self._step_cadence)
         for g in frames[kept:]:
             self._series.remove(g)
         if dropped:
@@ -233,11 +235,6 @@ class XDMFWriter(Tracker):
         self.frames = len(kept)
         self._last_step = int(kept[-1].get("Name")[len("step"):])
         self._flush()
-
-    def _series_root(self):
-        self._root = ET.parse(self.path).getroot()
-        self._series = self._root.find("Domain/Grid")
-        return self._series
 
     def _after(self, t: float) -> float:
         """The first cadence time after t (interval cadence)."""
@@ -303,18 +300,33 @@ class XDMFWriter(Tracker):
             self._h5 = None
 
 
-def _frames(path) -> list[tuple[int, float, str]]:
+def _not_a_series(path) -> InputError:
+    return InputError(f"cannot continue the series {str(path)!r}: it is not a series this writer wrote", field="path",
+                      value=str(path))
+
+
+def _parse(path):
+    """(root, series) of the XDMF file ``path``: its Xdmf element and its temporal collection."""
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        raise _not_a_series(path) from None
+    series = root.find("Domain/Grid")
+    if series is None:
+        raise _not_a_series(path)
+    return root, series
+
+
+def _frames(series, path) -> list[tuple[int, float, str]]:
     """(step, time, kind) of each frame of a series this writer wrote; InputError when it is not one."""
     try:
-        series = ET.parse(path).getroot().find("Domain/Grid")
         out = []
         for g in series.findall("Grid"):
             kind = g.find("Information[@Name='frame']")
             out.append((int(g.get("Name", "")[len("step"):]), float(g.find("Time").get("Value")),
                         "" if kind is None else kind.get("Value")))
-    except (ET.ParseError, OSError, AttributeError, TypeError, ValueError):
-        raise InputError(f"cannot continue the series {str(path)!r}: it is not a series this writer wrote",
-                         field="path", value=str(path)) from None
+    except (AttributeError, TypeError, ValueError):
+        raise _not_a_series(path) from None
     return out
 
 
@@ -328,7 +340,11 @@ def continuation(path, step: int, t: float, interval: float | None = None, every
     not fill: InputError naming the times, and nothing is changed. Frames after the state (a run killed
     after its checkpoint) are what a continuation drops. Reads only.
     """
-    frames = _frames(path)
+    return _continuation(path, _frames(_parse(path)[1], path), step, t, interval, every)
+
+
+def _continuation(path, frames, step, t, interval, every) -> tuple[int, int]:
+    """:func:`continuation` of the frames (step, time, kind) of the series at ``path``."""
     kept = [f for f in frames if f[0] < step or (f[0] == step and f[2] != "last")]
     if not kept:
         raise InputError(f"cannot continue the series {str(path)!r}: it has no frame before step {step}",

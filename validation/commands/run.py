@@ -403,18 +403,14 @@ def _abandon(folder: Path, scene: str, step: int) -> None:
     Their series is cut back to ``step``; resumed from, they would leave a hole in it (a diverged run's last
     good state likewise).
     """
-    later = []
-    for path in sorted(folder.glob(f"{scene}-checkpoint-*.npz")) + [folder / f"{scene}-diverged.npz"]:
-        m = re.fullmatch(rf"{re.escape(scene)}-checkpoint-(\d+)\.npz", path.name)
-        if m is not None:
-            if int(m.group(1)) > step:
-                later.append(path)
-        elif path.is_file():
-            try:
-                if load_checkpoint(path)["step"] > step:
-                    later.append(path)
-            except InputError:
-                pass  # not a checkpoint this run can read: left alone
+    later = [p for k, p in CheckpointWriter.found(folder, f"{scene}-checkpoint").items() if k > step]
+    diverged = folder / f"{scene}-diverged.npz"
+    if diverged.is_file():
+        try:
+            if load_checkpoint(diverged)["step"] > step:
+                later.append(diverged)
+        except InputError:
+            pass  # not a checkpoint this run can read: left alone
     for path in later:
         path.unlink(missing_ok=True)
     if later:
