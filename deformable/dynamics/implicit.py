@@ -160,14 +160,20 @@ class Implicit(Scheme):
         # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
         # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
         start = fl.hold(xhat, X0, t1)
-        scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
+        # the step test, in a step without obstacles (module docstring, "Convergence"); its scale is the residual
+        # at the search's start (one gradient fewer a step)
+        xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and fl.contact is None else None
+        scale = None
+        if xtol is None:
+            scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
         if state.A is not None:
             start = fl.hold(xhat + (self.start * dt**2) * flat(state.A), X0, t1)
         if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow
             fl.contact.lag(xn, dt)
             start = fl.hold(fl.contact.safe_start(xn, start - xn), X0, t1)
         try:
-            x, report = self.newton.minimise(phi, grad, start, cm, cc, label, None if D is None else cc * D, scale)
+            x, report = self.newton.minimise(phi, grad, start, cm, cc, label, None if D is None else cc * D, scale,
+                                             xtol=xtol)
         except ConvergenceError as err:
             self.rejected += 1
             raise StepRejected(str(err)) from err

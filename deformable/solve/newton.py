@@ -13,18 +13,9 @@ share, over the potential of :class:`deformable.solve.potential.FlatEnergy`:
 :class:`Newton`'s loop, which computes directions and leaves the step to a
 line search (:mod:`deformable.solve.search`, a registered strategy):
 
-- the Newton matrix lives on the Hessian's fixed pattern, reduced to the free
-  degrees of freedom by precomputed gathers
-  (:class:`deformable.algebra.reduced.ReducedSystem`): no sparse slicing and no
-  sparse-sparse product per iteration;
-- the Newton matrix is positive definite, so that every direction descends:
-  by default ("auto") the exact Hessian's when the factorisation finds it
-  positive definite (Cholesky in PARDISO; the pivots of SuperLU's symmetric
-  LDL^T), else the one of the *definite* Hessian of
-  :mod:`deformable.physics.integrand` (Gauss-Newton plus the membrane's tension
-  stiffness, positive semi-definite point by point), which needs no
-  eigen-decomposition and no further factorisation; a Levenberg-Marquardt
-  shift is the last resort for a singular matrix;
+- the Newton matrix, its positive definite factorisation (the exact
+  Hessian's where definite, else the definite one's) and the chord and CG
+  directions are :class:`deformable.solve.directions.Directions`';
 - the factorisation is kept while it pays: within a solve an iteration
   reuses the last one when the previous iteration with it reduced the
   residual at least a hundredfold (:data:`CONTRACTION`), else it
@@ -34,9 +25,7 @@ line search (:mod:`deformable.solve.search`, a registered strategy):
   iterations and factorisations per step 3.0 and 2.05 with a tenfold test,
   2.45 and 2.37 with a hundredfold one, 2.45 and 2.45 without reuse (a chord
   step after a first Newton step that gained 20-50x gains only 2-4x more).
-  Reusing the last time step's factorisation for a nonlinear model was
-  measured and dropped: on the curtain (FD 32 x 32) its first chord step
-  rarely contracts tenfold, and iterations per step rose from 3.4 to 4.4;
+  Across time steps: ``lag`` below.
 - the step along a direction is a line search's: by default the watchdog
   of :class:`deformable.solve.search.Watchdog` (full Newton steps, watched
   for a sufficient decrease, with a return to the last good point), or
@@ -47,6 +36,24 @@ The potential's elastic part may carry the scene's springs
 (:class:`deformable.physics.loads.Loads`: an energy with its Hessian), evaluated at
 the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
 implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
+
+Convergence tests (``NewtonSettings(test=...)``). "force" (the default): the
+max-norm of the free residual at most ``rtol`` times its scale. "step"
+(opt-in, time steps without obstacles): also when a trusted direction moves
+no degree of freedom further than ``vtol dt`` (Li et al. 2020, IPC, section
+5); x + d is then returned without a further gradient. A direction is trusted
+when it comes from a factorisation of the exact Newton matrix, or after the
+directions contracted at least twofold (a definite fallback's). With
+``lag=True`` a factorisation outlives a solve that ended on the step test with
+no fallback, chords going on while they pay (:meth:`Directions.slow`);
+``krylov=True``: PCG on the exact matrix instead (:mod:`.krylov`).
+Measured (FD 64 x 64 nodes, one thread, CPU time, 0.5 s): the curtain 14.7 s
+under "force", 8.2 s under "step" with ``lag`` (Newton error 0.7 % of the
+difference between dt and dt/2); the flag 54.4 -> 45.7 s; the hanging cloth
+unchanged; PCG slower everywhere measured (FD 64 14.9 s, FD 128 25.8 against
+16.3 s without), as the exact matrix's assembly costs about a factorisation.
+A lagged factorisation is not in a checkpoint: a resumed run under ``lag`` is
+not bit-identical, which is why these are not the defaults yet.
 
 Loads below the absolute terms of the tolerance. The tolerance has two
 absolute terms, ``atol`` and the round-off floor of the internal forces
@@ -93,16 +100,19 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
-import scipy.sparse as sp
 
-from ..algebra.reduced import ReducedSystem
-from ..algebra.solvers import make_solver, one_blas_thread
+from ..algebra.solvers import one_blas_thread
 from ..checks import known_keys
-from ..errors import ConvergenceError, InputError, LoadBelowRoundOff, SingularMatrix
+from ..errors import ConvergenceError, InputError, LoadBelowRoundOff
+from .directions import Directions
+from .krylov import forcing
 from .potential import FlatEnergy
-from .search import Candidate, LineSearch
+from .search import LineSearch, candidates
 
 __all__ = ["NewtonReport", "NewtonSettings", "Newton", "DirectionFilter"]
+
+#: the convergence tests (module docstring, "Convergence tests")
+TESTS = ("step", "force")
 
 #: a reused factorisation is kept while each iteration with it reduces the residual at least this much (ratio)
 CONTRACTION = 0.01
@@ -139,6 +149,10 @@ class NewtonReport:
     lost: bool = False  # the load was at or below the tolerance and the residual stayed of its size (module docstring)
     factorisations: int = 0
     fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
+    cg: int = 0  # conjugate-gradient iterations (products with the Newton matrix) of the inexact directions
+    by: str = "force"  # the test that ended the solve: "force" or "step"
+    xtol: float | None = None  # the step test's tolerance (m), where it applied
+    step: float = 0.0  # the max-norm of the last direction (m); by "step": at most xtol, the step added to x
     seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
 
 
@@ -174,6 +188,14 @@ class NewtonSettings:
         "armijo".
     armijo : float
         The sufficient-decrease constant c of the line search's Armijo test, in (0, 1/2).
+    test, vtol : str, float
+        "force" (default) or "step": also converged on a trusted direction no longer than vtol dt (m/s; time
+        steps without obstacles; module docstring, "Convergence tests").
+    lag, contraction, krylov : bool, float, bool
+        Under "step": keep a factorisation across steps; refactorise when a chord contracts less than
+        ``contraction`` (or does not pay); PCG instead of a refactorisation (measured slower: off).
+    fallback : str
+        The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
     """
 
     rtol: float = 1e-3
@@ -184,6 +206,12 @@ class NewtonSettings:
     reuse: bool = True
     search: str = "watchdog"
     armijo: float = 1e-4
+    test: str = "force"
+    vtol: float = 1e-2
+    lag: bool = False
+    contraction: float = 0.9
+    krylov: bool = False
+    fallback: str = "definite"
 
     def __post_init__(self):
         from ..algebra.solvers import SOLVERS
@@ -202,6 +230,21 @@ class NewtonSettings:
         if not isinstance(self.search, str) or self.search not in LineSearch.names():
             raise InputError(f"newton search must be one of {', '.join(LineSearch.names())}, got {self.search!r}",
                              field="newton.search", value=self.search)
+        if self.fallback not in ("definite", "projected"):
+            raise InputError(f"newton fallback must be 'definite' or 'projected', got {self.fallback!r}",
+                             field="newton.fallback", value=self.fallback)
+        if self.test not in TESTS:
+            raise InputError(f"newton test must be one of {', '.join(TESTS)}, got {self.test!r}", field="newton.test",
+                             value=self.test)
+        for name in ("vtol", "contraction"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
+                raise InputError(f"newton {name} must be a finite positive number, got {v!r}", field=f"newton.{name}",
+                                 value=v)
+        for name in ("lag", "krylov", "reuse"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"newton {name} must be true or false, got {getattr(self, name)!r}",
+                                 field=f"newton.{name}", value=getattr(self, name))
         c = self.armijo
         if isinstance(c, bool) or not isinstance(c, (int, float)) or not 0 < c < 0.5:
             raise InputError(f"newton armijo must lie in (0, 1/2), got {c!r}", field="newton.armijo", value=c)
@@ -237,24 +280,25 @@ class Newton:
         self.problem = problem
         self.settings = NewtonSettings.of(settings)
         self.search = LineSearch.lookup(self.settings.search)
-        definite = self.settings.hessian in ("auto", "definite", "gauss-newton", "projected")
-        self.solver = make_solver(self.settings.solver, definite=definite)
-        self._system = None
-        self._factored = None  # (c_M, c_C) of the factorisation at hand, or None
-        self._floor = 0.0
-        self._damping = None  # an extra damping matrix of the current solve (already times c_C)
-        self._stiffness = None  # with a filter: the Newton matrix's diagonal without the filter's Hessian (3 ndof,)
+        self.directions = Directions(problem, self.settings)
         self._warned = False  # LoadBelowRoundOff said once for this object (one run)
+        self._smooth = False  # the last solve ended on the step test without a fallback (module docstring)
+        self._search_cost = None  # the seconds of a line search step (with its gradient), a running mean
+
+    @property
+    def solver(self):
+        """The linear solver of the Newton matrices (:mod:`deformable.algebra.solvers`)."""
+        return self.directions.solver
 
     @property
     def floor(self) -> float:
         """The round-off floor of the last Newton matrix (N), where the next solve's tolerance starts; a
         resumed run sets it (:meth:`deformable.TimeStepper.restore`)."""
-        return self._floor
+        return self.directions.floor
 
     @floor.setter
     def floor(self, value: float) -> None:
-        self._floor = float(value)
+        self.directions.floor = float(value)
 
     def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
         """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
@@ -263,60 +307,10 @@ class Newton:
         here). The extra matrices are the springs' Hessian and the damping set
         by :meth:`minimise` (the wind's, times c_C).
         """
-        report = NewtonReport() if report is None else report
-        t0 = time.perf_counter()
-        p = self.problem
-        kind = kind or self.settings.hessian
-        H = p.hessian(x, "newton" if kind == "auto" else kind)
-        extra = p.extra_hessians(x, self._damping, "newton" if kind == "auto" else kind)
-        if self._system is None:
-            self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
-        elif (self._system.cm, self._system.cc) != (cm, cc):
-            self._system.rescale(cm, cc)
-        A = self._system.free_block(H, *extra)
-        if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
-            self._stiffness = np.zeros(3 * p.n)
-            self._stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]
-        report.seconds["hessian"] += time.perf_counter() - t0
-        # round-off floor: internal forces are sums of terms of size |diag H| |x|
-        self._floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
-        report.floor = max(report.floor, self._floor)
-        return A
-
-    def _factor_at(self, x, cm, cc, report: NewtonReport) -> None:
-        """Assemble and factorise the Newton matrix at x ("auto": the exact one if definite, else the definite one)."""
-        if self.settings.hessian == "auto":
-            A = self.newton_matrix(x, cm, cc, report)
-            t0 = time.perf_counter()
-            try:
-                self.solver.factor(A)
-                report.factorisations += 1
-                report.seconds["factor"] += time.perf_counter() - t0
-                return
-            except SingularMatrix:  # indefinite (compression, or bending away from the rest state): make it definite
-                report.seconds["factor"] += time.perf_counter() - t0
-                report.fallbacks += 1
-            self._factor(self.newton_matrix(x, cm, cc, report, "definite"), report)
-            return
-        self._factor(self.newton_matrix(x, cm, cc, report), report)
-
-    def _factor(self, A, report: NewtonReport) -> None:
-        """Factorise A, adding a Levenberg-Marquardt shift if it is singular (or indefinite with Cholesky)."""
-        t0 = time.perf_counter()
-        scale = float(np.mean(np.abs(A.diagonal()))) or 1.0
-        for shift in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
-            try:
-                self.solver.factor(A if not shift else A + shift * scale * sp.identity(A.shape[0], format="csc"))
-                break
-            except SingularMatrix:
-                continue
-        else:
-            raise SingularMatrix("the Newton matrix stays singular under a Levenberg-Marquardt shift")
-        report.factorisations += 1
-        report.seconds["factor"] += time.perf_counter() - t0
+        return self.directions.matrix(x, cm, cc, NewtonReport() if report is None else report, kind)
 
     def minimise(self, phi, grad, x, cm: float = 0.0, cc: float = 0.0, label: str = "Newton", damping=None,
-                 scale: float | None = None, load: float | None = None):
+                 scale: float | None = None, load: float | None = None, xtol: float | None = None):
         """Minimise phi over the free degrees of freedom from x (held ones stay); returns (x, NewtonReport).
 
         OpenBLAS keeps one thread meanwhile (:func:`deformable.algebra.solvers.one_blas_thread`).
@@ -338,9 +332,13 @@ class Newton:
             The max-norm of the applied load on the free degrees of freedom (N), which no absolute term of
             the tolerance may swallow (module docstring); default that of ``problem.load(problem.t)``,
             evaluated only when an absolute term exceeds ``rtol * scale``.
+        xtol : float, optional
+            The step test's tolerance (m): under ``test="step"`` the solve also ends when a direction from the
+            exact Newton matrix moves no degree of freedom further than xtol (module docstring); the implicit
+            steps give ``vtol * dt``. None: the force test alone.
         """
         with one_blas_thread():
-            return self._minimise(phi, grad, x, cm, cc, label, damping, scale, load)
+            return self._minimise(phi, grad, x, cm, cc, label, damping, scale, load, xtol)
 
     def _load(self, load) -> float | None:
         """The max-norm of the applied load over the free degrees of freedom (N): ``load``, else the problem's (None
@@ -353,13 +351,16 @@ class Newton:
         F = p.load(getattr(p, "t", 0.0))[p.free]
         return float(np.max(np.abs(F))) if F.size else 0.0
 
-    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale, load):
-        s, p = self.settings, self.problem
+    def _minimise(self, phi, grad, x, cm, cc, label, damping, scale, load, xtol):
+        s, p, D = self.settings, self.problem, self.directions
         free = p.free
-        report = NewtonReport(floor=self._floor)
-        self._damping = damping
-        if self._factored is not None and (self._factored != (cm, cc) or not p.linear):
-            self._factored = None  # a factorisation outlives its solve only for a linear model
+        report = NewtonReport(floor=D.floor, xtol=xtol if s.test == "step" else None)
+        D.damping = damping
+        steps = s.test == "step" and xtol is not None  # the step test applies (module docstring)
+        kept = p.linear or (steps and s.lag and s.reuse and self._smooth)
+        if D.factored is not None and (D.factored != (cm, cc) or not kept):
+            D.factored = None  # a factorisation outlives its solve for a linear model, or lagged under the step test
+        D.here = False
         g = grad(x)[free]
         r0 = float(np.max(np.abs(g))) if g.size else 0.0
         report.scale = r0 if scale is None else float(scale)
@@ -376,22 +377,28 @@ class Newton:
             report.converged = True
             return x, report
         search = self.search(phi, grad, free, s.armijo, label)
+        size = forcing_term = None  # the last direction's max-norm; the last CG forcing term
         for it in range(1, s.max_iter + 1):
-            # refactorise unless the factorisation at hand (also one from an earlier solve) keeps contracting
-            slow = len(report.residuals) >= 2 and report.residuals[-1] > CONTRACTION * report.residuals[-2]
-            if self._factored is None or not s.reuse or slow:
-                self._factor_at(x, cm, cc, report)
-                self._factored = (cm, cc)
-            t0 = time.perf_counter()
-            d = -self.solver.solve(g)
-            report.seconds["solve"] += time.perf_counter() - t0
+            last = size
+            d, trusted, size, forcing_term = self._direction(phi, x, g, cm, cc, report, steps, size,
+                                                             forcing_term, xtol)
+            # the step test: x + d resolves the step; a direction of the definite fallback only after it contracted
+            # at least twofold (the error left after it is then at most its own size)
+            trusted = trusted or (last is not None and size <= 0.5 * last)
+            if steps and trusted and size <= xtol and float(g @ d) < 0:
+                alpha = 1.0 if p.filter is None else p.filter.max_step(x, self._full(x, d))
+                x = x.copy()
+                x[free] += alpha * d
+                report.iterations, report.converged, report.by, report.step = it, True, "step", size
+                break
             t0 = time.perf_counter()
             slope = float(g @ d)
             newton = slope < 0
             if not newton:  # no descent (a stale factorisation): steepest descent, scaled like the step
                 d = -g * (float(np.max(np.abs(d))) / max(float(np.max(np.abs(g))), 1e-300))
                 slope = float(g @ d)
-            first, fallback = self._candidates(x, g, d, slope, newton and cm > 0)
+            first, fallback = candidates(p.filter, p.free, self.directions.stiffness, x, g, d, slope,
+                                         newton and cm > 0)
             target = report.tolerance = max(target, report.floor)
             try:
                 xt, gt = search.step(x, first, fallback, target, it, report.residuals[-1])
@@ -399,8 +406,10 @@ class Newton:
                 raise ConvergenceError(str(err), report.residuals, err.X) from None
             moved = float(np.max(np.abs(xt - x)))
             x = xt
-            report.seconds["search"] += time.perf_counter() - t0
             g = grad(x)[free] if gt is None else gt
+            seconds = time.perf_counter() - t0
+            report.seconds["search"] += seconds
+            self._search_cost = seconds if self._search_cost is None else 0.5 * (self._search_cost + seconds)
             report.residuals.append(float(np.max(np.abs(g))))
             report.iterations = it
             target = report.tolerance = max(target, report.floor)
@@ -410,9 +419,65 @@ class Newton:
             if moved <= 1e-15 * max(1.0, float(np.max(np.abs(x)))):  # no move left: round-off, or stuck
                 report.converged = report.residuals[-1] <= 1e3 * target
                 break
-        if report.load is not None or report.tolerance > s.rtol * report.scale:
+        self._smooth = report.by == "step" and report.fallbacks == 0  # the next solve may start from its factor
+        if report.by == "force" and (report.load is not None or report.tolerance > s.rtol * report.scale):
             self._check_load(report, load, label)
         return x, report
+
+    def _direction(self, phi, x, g, cm, cc, report, steps: bool, last, forcing_term, xtol):
+        """Newton's next direction at x (module docstring, "Directions"): (d, trusted, its max-norm, the CG forcing
+        term used). ``trusted``: d solves the exact Newton matrix at x (fresh, or by CG), or comes from a chord of
+        an exact factorisation; only such a direction may end a solve by the step test."""
+        s, D = self.settings, self.directions
+        if steps:
+            if D.factored is None or not s.reuse or not D.exact:  # no chords of a definite fallback
+                D.factor_at(x, cm, cc, report)
+            d = D.solve(g, report)
+            size, trusted = self._norm(d), D.exact
+            # a chord is dropped when it does not pay (contraction) or, first of the solve (a factorisation from an
+            # earlier step), when its step does not decrease phi sufficiently (a soft mode of the lagged matrix)
+            if not D.here and size > xtol and (D.slow(size, last, xtol, self._search_cost) if last is not None
+                                               else not self._descends(phi, x, g, d)):
+                if s.krylov:
+                    r = report.residuals
+                    forcing_term = forcing(r[-1], r[-2] if len(r) > 1 else None, forcing_term)
+                    d, _, solved = D.inexact(x, g, d, cm, cc, forcing_term, report)
+                    trusted = solved and s.hessian in ("auto", "newton") or (not solved and D.exact)
+                else:
+                    D.factor_at(x, cm, cc, report)
+                    d = D.solve(g, report)
+                    trusted = D.exact
+                size = self._norm(d)
+            D.here = False
+            return d, trusted, size, forcing_term
+        # the force test: refactorise unless the factorisation at hand (also one from an earlier solve of a linear
+        # model) keeps contracting the residual (CONTRACTION)
+        r = report.residuals
+        slow = len(r) >= 2 and r[-1] > CONTRACTION * r[-2]
+        if D.factored is None or not s.reuse or slow:
+            D.factor_at(x, cm, cc, report)
+        d = D.solve(g, report)
+        D.here = False
+        return d, False, self._norm(d), forcing_term
+
+    def _descends(self, phi, x, g, d) -> bool:
+        """Whether the (clipped) step d from x decreases phi sufficiently (the settings' Armijo constant)."""
+        f = self.problem.filter
+        alpha = 1.0 if f is None else f.max_step(x, self._full(x, d))
+        xt = x.copy()
+        xt[self.problem.free] += alpha * d
+        ft = phi(xt)
+        return bool(np.isfinite(ft) and ft <= phi(x) + self.settings.armijo * alpha * float(g @ d))
+
+    @staticmethod
+    def _norm(d) -> float:
+        return float(np.max(np.abs(d))) if d.size else 0.0
+
+    def _full(self, x, d):
+        """The free direction d (n_free,) as a flat vector (3 ndof,), zero on held degrees of freedom."""
+        dx = np.zeros_like(x)
+        dx[self.problem.free] = d
+        return dx
 
     def _check_load(self, report: NewtonReport, load, label: str) -> None:
         """Warn (once) when the tolerance accepted a residual as large as the load and the residual stayed of the
@@ -430,25 +495,3 @@ class Newton:
                           "solution, and the load may be lost in round-off, what it drives not computed (a "
                           "stiffness eta, xi too large against the loads and the inertia for double precision, or "
                           "iterates far from the solution)", LoadBelowRoundOff, stacklevel=4)
-
-    def _candidates(self, x, g, d, slope, inertia: bool):
-        """The line search's candidates: Newton's direction d (free) with its slope, or, with the potential's
-        direction filter, the filter's proposal (in time steps, ``inertia``) when it descends, each clipped to the
-        filter's safe step, and Newton's own clipped direction as the fallback, computed only when asked for."""
-        f, free = self.problem.filter, self.problem.free
-        if f is None:
-            return Candidate(d, slope), None
-        dx = np.zeros_like(x)
-        dx[free] = d
-        plain = None
-        if inertia:  # the filter's 1-D models need the inertia's stiffness (none in equilibrium)
-            proposed = f.propose(x, dx, self._stiffness)
-            if proposed is not dx and float(g @ proposed[free]) < 0:
-                plain = (dx, d, slope)
-                dx, d, slope = proposed, proposed[free], float(g @ proposed[free])
-
-        def clipped(dx, d, slope):
-            alpha = f.max_step(x, dx)
-            return Candidate(alpha * d, alpha * slope)
-
-        return clipped(dx, d, slope), None if plain is None else (lambda: clipped(*plain))

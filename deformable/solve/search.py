@@ -44,7 +44,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..registry import Registered
 
-__all__ = ["LineSearch", "Watchdog", "Armijo", "Candidate", "WATCHDOG"]
+__all__ = ["LineSearch", "Watchdog", "Armijo", "Candidate", "WATCHDOG", "candidates"]
 
 #: full Newton steps taken in a row without a sufficient decrease of the potential before the watchdog steps back
 WATCHDOG = 6
@@ -174,3 +174,26 @@ class Watchdog(LineSearch):
             xt, self.fx = self.backtrack(xr, phi(xr) if fr is None else fr, dr, sr, iteration, residual)
             self.ref = None
         return xt, gt
+
+
+def candidates(f, free, stiffness, x, g, d, slope, inertia: bool):
+    """A line search's candidates: Newton's direction d (free) with its slope, or, with the potential's direction
+    filter f, the filter's proposal (in time steps, ``inertia``; ``stiffness`` the Newton matrix's diagonal without
+    the filter's Hessian) when it descends, each clipped to the filter's safe step, and Newton's own clipped
+    direction as the fallback, computed only when asked for (:mod:`deformable.solve.newton`)."""
+    if f is None:
+        return Candidate(d, slope), None
+    dx = np.zeros_like(x)
+    dx[free] = d
+    plain = None
+    if inertia:  # the filter's 1-D models need the inertia's stiffness (none in equilibrium)
+        proposed = f.propose(x, dx, stiffness)
+        if proposed is not dx and float(g @ proposed[free]) < 0:
+            plain = (dx, d, slope)
+            dx, d, slope = proposed, proposed[free], float(g @ proposed[free])
+
+    def clipped(dx, d, slope):
+        alpha = f.max_step(x, dx)
+        return Candidate(alpha * d, alpha * slope)
+
+    return clipped(dx, d, slope), None if plain is None else (lambda: clipped(*plain))

@@ -145,7 +145,7 @@ def run_mode(backend: str, nodes: int, regime: str, scheme: str) -> dict:
     X0[:, 2] += p["amplitude"] * phi / np.max(np.abs(phi))
     Mz = model.mass() @ phi
     stepper = dm.TimeStepper(model, dt, scheme=scheme,
-                             newton=None if scheme == "semi-implicit" else dict(rtol=1e-12, atol=0.0))
+                             newton=None if scheme == "semi-implicit" else dict(rtol=1e-12, atol=0.0, test="force"))
     q = [float(Mz @ X0[:, 2])]
     result = stepper.run(X0, steps=PERIODS * STEPS_PER_PERIOD,
                          trackers=[dm.Callback(lambda s: q.append(float(Mz @ s.X[:, 2])))])

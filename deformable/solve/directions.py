@@ -1,0 +1,195 @@
+r"""Where Newton's directions come from: the Newton matrix, its factorisation kept while it pays, and inexact solves.
+
+:class:`Directions` is the linear algebra of one :class:`deformable.solve.newton.Newton` object (one run):
+
+- the Newton matrix ``c_M M + c_C C + Hess E`` (+ the springs' Hessian and
+  the wind's damping) lives on the Hessian's fixed pattern, reduced to the
+  free degrees of freedom by precomputed gathers
+  (:class:`deformable.algebra.reduced.ReducedSystem`);
+- a factorisation is made positive definite: by default ("auto") the exact
+  Hessian's when the factorisation finds it positive definite (Cholesky in
+  PARDISO, the pivots of SuperLU's LDL^T), else the *definite* Hessian's
+  (:mod:`deformable.physics.integrand`: Gauss-Newton plus the membrane's
+  tension stiffness); a Levenberg-Marquardt shift is the last resort for a
+  singular matrix. :attr:`exact` says which one is at hand;
+- a chord direction is a solve with the factorisation at hand, made at an
+  earlier iterate (of this solve or, with ``NewtonSettings(lag=True)``, of an
+  earlier time step);
+- an inexact direction (:meth:`inexact`) solves the exact Newton matrix at
+  the current iterate by conjugate gradients preconditioned by the
+  factorisation at hand (:mod:`deformable.solve.krylov`), within a budget of
+  iterations that costs no more than a new factorisation (from the times
+  measured in this run, :meth:`break_even`), and factorises that same matrix
+  when CG does not converge within it or meets negative curvature.
+
+The costs are wall-clock seconds of this process, kept in each solve's
+:class:`deformable.solve.newton.NewtonReport` ("hessian", "factor", "solve").
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..algebra.reduced import ReducedSystem
+from ..algebra.solvers import make_solver
+from ..errors import SingularMatrix
+from .krylov import pcg
+
+__all__ = ["Directions"]
+
+#: CG's budget is at least this many iterations, at most this many
+CG_BUDGET = (2, 40)
+
+
+class Directions:
+    """The Newton matrix, its kept factorisation, chord and inexact directions of one Newton object (module
+    docstring).
+
+    Parameters
+    ----------
+    problem : FlatEnergy
+        The potential (its Hessians, mass, damping, held degrees of freedom, direction filter).
+    settings : NewtonSettings
+        ``hessian`` and ``solver`` are read here.
+    """
+
+    def __init__(self, problem, settings):
+        self.problem, self.settings = problem, settings
+        definite = settings.hessian in ("auto", "definite", "gauss-newton", "projected")
+        self.solver = make_solver(settings.solver, definite=definite)
+        self._system = None
+        self.factored = None  # (c_M, c_C) of the factorisation at hand, or None
+        self.exact = False  # the factorisation at hand is of the exact Newton matrix (not the definite fallback)
+        self.here = False  # it was made at the current iterate
+        self.floor = 0.0  # the round-off floor of the last Newton matrix (N)
+        self.damping = None  # an extra damping matrix of the current solve (already times c_C)
+        self.stiffness = None  # with a filter: the Newton matrix's diagonal without the filter's Hessian (3 ndof,)
+        self._cost = {"hessian": None, "factor": None, "solve": None, "product": None}  # the last seconds of each
+
+    # -- the matrix -----------------------------------------------------------------
+    def matrix(self, x, cm: float, cc: float, report, kind: str | None = None):
+        """The free block of the Newton matrix at x (CSC), on the fixed pattern; ``kind``: the Hessian (default
+        the settings'; "auto" is the exact one here)."""
+        t0 = time.perf_counter()
+        p = self.problem
+        kind = kind or self.settings.hessian
+        kind = "newton" if kind == "auto" else kind
+        H = p.hessian(x, kind)
+        extra = p.extra_hessians(x, self.damping, kind)
+        if self._system is None:
+            self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
+        elif (self._system.cm, self._system.cc) != (cm, cc):
+            self._system.rescale(cm, cc)
+        A = self._system.free_block(H, *extra)
+        if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
+            self.stiffness = np.zeros(3 * p.n)
+            self.stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]
+        seconds = time.perf_counter() - t0
+        report.seconds["hessian"] += seconds
+        self._cost["hessian"] = seconds
+        # round-off floor: internal forces are sums of terms of size |diag H| |x|
+        self.floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
+        report.floor = max(report.floor, self.floor)
+        return A
+
+    # -- factorisations -------------------------------------------------------------
+    def factor_at(self, x, cm: float, cc: float, report, A=None) -> None:
+        """Assemble (unless ``A``, the settings' matrix at x, is given) and factorise the Newton matrix at x
+        ("auto": the exact one if definite, else the definite one)."""
+        auto = self.settings.hessian == "auto"
+        A = self.matrix(x, cm, cc, report) if A is None else A
+        self.factored, self.here = (cm, cc), True
+        if auto:
+            t0 = time.perf_counter()
+            try:
+                self.solver.factor(A)
+                self._counted(report, t0)
+                self.exact = True
+                return
+            except SingularMatrix:  # indefinite (compression, or bending away from the rest state): make it definite
+                report.seconds["factor"] += time.perf_counter() - t0
+                report.fallbacks += 1
+            A = self.matrix(x, cm, cc, report, self.settings.fallback)
+        self._factor(A, report)
+        self.exact = self.settings.hessian == "newton"
+
+    def _factor(self, A, report) -> None:
+        """Factorise A, adding a Levenberg-Marquardt shift if it is singular (or indefinite with Cholesky)."""
+        t0 = time.perf_counter()
+        scale = float(np.mean(np.abs(A.diagonal()))) or 1.0
+        for shift in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
+            try:
+                self.solver.factor(A if not shift else A + shift * scale * sp.identity(A.shape[0], format="csc"))
+                break
+            except SingularMatrix:
+                continue
+        else:
+            raise SingularMatrix("the Newton matrix stays singular under a Levenberg-Marquardt shift")
+        self._counted(report, t0)
+
+    def _counted(self, report, t0: float) -> None:
+        seconds = time.perf_counter() - t0
+        report.factorisations += 1
+        report.seconds["factor"] += seconds
+        self._cost["factor"] = seconds
+
+    # -- directions -----------------------------------------------------------------
+    def solve(self, g: np.ndarray, report) -> np.ndarray:
+        """The chord (or Newton) direction ``-A^-1 g`` with the factorisation at hand."""
+        t0 = time.perf_counter()
+        d = -self.solver.solve(g)
+        seconds = time.perf_counter() - t0
+        report.seconds["solve"] += seconds
+        self._cost["solve"] = seconds
+        return d
+
+    def cost(self, name: str) -> float:
+        """The last measured seconds of a "hessian" (the Newton matrix's assembly), "factor", "solve" or
+        "product" in this run (0 before the first)."""
+        return self._cost[name] or 0.0
+
+    def slow(self, size: float, last: float, xtol: float, search: float) -> bool:
+        """Whether to refactorise rather than go on with chord directions: the chord iterations still needed to
+        bring the direction's max-norm ``size`` under ``xtol`` at the contraction just seen (``size / last``),
+        each a solve and a line-search step of ``search`` seconds, cost more than a new factorisation (with its
+        assembly) and one iteration; always when the contraction is above the settings' ``contraction``."""
+        if size <= xtol:
+            return False
+        ratio = size / last
+        if not ratio < self.settings.contraction:
+            return True
+        needed = math.log(xtol / size) / math.log(ratio)
+        chord = self.cost("solve") + (search or 0.0)
+        return needed * chord > self.cost("factor") + self.cost("hessian") + chord
+
+    def break_even(self) -> int:
+        """CG's budget: the iterations (one solve and one product each) that cost one factorisation, from the
+        times measured in this run, within :data:`CG_BUDGET`."""
+        factor, solve, product = (self._cost[k] for k in ("factor", "solve", "product"))
+        if factor is None or solve is None:
+            return CG_BUDGET[0]
+        per = solve + (0.1 * solve if product is None else product)
+        return int(min(CG_BUDGET[1], max(CG_BUDGET[0], factor // max(per, 1e-12))))
+
+    def inexact(self, x, g: np.ndarray, d0: np.ndarray, cm: float, cc: float, rtol: float, report):
+        """A direction for the exact Newton matrix at x: PCG from the chord direction ``d0``, preconditioned by the
+        factorisation at hand, to ``||A d + g|| <= rtol ||g||`` within :meth:`break_even` iterations; else that
+        matrix factorised (module docstring). Returns (d, cg iterations, converged)."""
+        A = self.matrix(x, cm, cc, report, "newton" if self.settings.hessian == "auto" else None)
+        budget = self.break_even()
+        t0 = time.perf_counter()
+        result = pcg(A, -g, self.solver.solve, x0=d0, rtol=rtol, maxiter=budget)
+        seconds = time.perf_counter() - t0
+        report.seconds["solve"] += seconds
+        report.cg += result.iterations
+        if result.iterations:
+            solve = self._cost["solve"] or 0.0
+            self._cost["product"] = max(seconds / result.iterations - solve, 0.0)
+        if result.status == "converged":
+            return result.x, result.iterations, True
+        self.factor_at(x, cm, cc, report, A)
+        return self.solve(g, report), result.iterations, False
