@@ -27,3 +27,5 @@ class FiniteElements(Discretisation):
     cost = 4.0
     membrane_eigenvalue = MEMBRANE_EIGENVALUE
     contact_samples = CONTACT_SAMPLES
+    # a scene's default grid (FD nodes) taken as half as many elements a side (Discretisation.scene_nodes)
+    scene_fraction = 0.5

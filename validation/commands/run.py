@@ -86,7 +86,7 @@ from deformable.io.series import continuation
 from deformable.limits import check_series
 from deformable.physics.force_models import ForceModel
 from validation.harness import drape
-from validation.harness.backends import BACKENDS, backend_dt, make_model
+from validation.harness.backends import BACKENDS, backend_dt, descriptor, make_model
 
 __all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "simulate",
            "RUN_KEYS", "DEFAULT_EVERY"]
@@ -124,7 +124,8 @@ def configure(parser) -> None:
                         help="run until this time (s), exactly (default: the scene's t_end)")
     parser.add_argument("--dt", type=str, default=None,
                         help="time step (s) (default: the scene's, or half the backend's stable step if smaller)")
-    parser.add_argument("--grid", default=None, help="node grid MxN (default: the scene's nodes)")
+    parser.add_argument("--grid", default=None, help="node grid MxN (default: the scene's nodes on fd; on fe half as "
+                        "many elements a side, e.g. 64x64 nodes -> 32x32 elements, 33x33 nodes)")
     parser.add_argument("--out", default=None,
                         help="output folder (default: runs/<scene>, or runs/<scene>-2, ... if that holds results; "
                         "with --resume: the checkpoint's folder)")
@@ -277,6 +278,13 @@ def prepare(args) -> Run:
     if backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}", field="backend",
                      value=backend)
+    in_file = text is not None and "nodes" in tomlio.loads(text, source)
+    given = "nodes" in fields_ or in_file or checkpoint is not None
+    nodes = descriptor(backend).scene_nodes(cfg.nodes)
+    if not given and nodes != tuple(cfg.nodes):  # the scene's grid is FD's: FE takes half as many elements a side
+        log.info("%dx%d nodes (%dx%d %s) for the %s backend: the scene's %dx%d taken in its own unit (--grid "
+                 "sets it)", *nodes, nodes[0] - 1, nodes[1] - 1, descriptor(backend).grid, backend, *cfg.nodes)
+        cfg = cfg.replace(nodes=nodes)
     scene = scenes.build(cfg)
     model = make_model(scene, backend)
     # the scenes' default dt is the FD one; a backend with a tighter stretching bound gets its own.
