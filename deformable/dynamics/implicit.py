@@ -160,8 +160,8 @@ class Implicit(Scheme):
         # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
         # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
         start = fl.hold(xhat, X0, t1)
-        # the step test, in a step without obstacles (module docstring, "Convergence"); its scale is the residual
-        # at the search's start (one gradient fewer a step)
+        # the step test, in a step without obstacles (deformable.solve.newton, "Convergence tests"); its scale is
+        # the residual at the search's start (one gradient fewer a step)
         xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and fl.contact is None else None
         scale = None
         if xtol is None:

@@ -178,7 +178,8 @@ class Directions:
     def inexact(self, x, g: np.ndarray, d0: np.ndarray, cm: float, cc: float, rtol: float, report):
         """A direction for the exact Newton matrix at x: PCG from the chord direction ``d0``, preconditioned by the
         factorisation at hand, to ``||A d + g|| <= rtol ||g||`` within :meth:`break_even` iterations; else that
-        matrix factorised (module docstring). Returns (d, cg iterations, converged)."""
+        matrix factorised (module docstring). Returns (d, whether CG converged); ``report.cg`` counts its
+        iterations."""
         A = self.matrix(x, cm, cc, report, "newton" if self.settings.hessian == "auto" else None)
         budget = self.break_even()
         t0 = time.perf_counter()
@@ -190,6 +191,6 @@ class Directions:
             solve = self._cost["solve"] or 0.0
             self._cost["product"] = max(seconds / result.iterations - solve, 0.0)
         if result.status == "converged":
-            return result.x, result.iterations, True
+            return result.x, True
         self.factor_at(x, cm, cc, report, A)
-        return self.solve(g, report), result.iterations, False
+        return self.solve(g, report), False

@@ -15,7 +15,7 @@ line search (:mod:`deformable.solve.search`, a registered strategy):
 
 - the Newton matrix, its positive definite factorisation (the exact
   Hessian's where definite, else the definite one's) and the chord and CG
-  directions are :class:`deformable.solve.directions.Directions`';
+  directions are :class:`deformable.solve.directions.Directions`;
 - the factorisation is kept while it pays: within a solve an iteration
   reuses the last one when the previous iteration with it reduced the
   residual at least a hundredfold (:data:`CONTRACTION`), else it
@@ -107,7 +107,7 @@ from ..errors import ConvergenceError, InputError, LoadBelowRoundOff
 from .directions import Directions
 from .krylov import forcing
 from .potential import FlatEnergy
-from .search import LineSearch, candidates
+from .search import LineSearch, candidates, spread
 
 __all__ = ["NewtonReport", "NewtonSettings", "Newton", "DirectionFilter"]
 
@@ -354,9 +354,9 @@ class Newton:
     def _minimise(self, phi, grad, x, cm, cc, label, damping, scale, load, xtol):
         s, p, D = self.settings, self.problem, self.directions
         free = p.free
-        report = NewtonReport(floor=D.floor, xtol=xtol if s.test == "step" else None)
-        D.damping = damping
         steps = s.test == "step" and xtol is not None  # the step test applies (module docstring)
+        report = NewtonReport(floor=D.floor, xtol=xtol if steps else None)
+        D.damping = damping
         kept = p.linear or (steps and s.lag and s.reuse and self._smooth)
         if D.factored is not None and (D.factored != (cm, cc) or not kept):
             D.factored = None  # a factorisation outlives its solve for a linear model, or lagged under the step test
@@ -386,9 +386,7 @@ class Newton:
             # at least twofold (the error left after it is then at most its own size)
             trusted = trusted or (last is not None and size <= 0.5 * last)
             if steps and trusted and size <= xtol and float(g @ d) < 0:
-                alpha = 1.0 if p.filter is None else p.filter.max_step(x, self._full(x, d))
-                x = x.copy()
-                x[free] += alpha * d
+                x, _ = self._clipped(x, d)
                 report.iterations, report.converged, report.by, report.step = it, True, "step", size
                 break
             t0 = time.perf_counter()
@@ -441,7 +439,7 @@ class Newton:
                 if s.krylov:
                     r = report.residuals
                     forcing_term = forcing(r[-1], r[-2] if len(r) > 1 else None, forcing_term)
-                    d, _, solved = D.inexact(x, g, d, cm, cc, forcing_term, report)
+                    d, solved = D.inexact(x, g, d, cm, cc, forcing_term, report)
                     trusted = solved and s.hessian in ("auto", "newton") or (not solved and D.exact)
                 else:
                     D.factor_at(x, cm, cc, report)
@@ -460,24 +458,24 @@ class Newton:
         D.here = False
         return d, False, self._norm(d), forcing_term
 
+    def _clipped(self, x, d):
+        """x + alpha d with alpha the direction filter's safe fraction of the free direction d (1 without a
+        filter): (the point, alpha)."""
+        f, free = self.problem.filter, self.problem.free
+        alpha = 1.0 if f is None else f.max_step(x, spread(free, x, d))
+        xt = x.copy()
+        xt[free] += alpha * d
+        return xt, alpha
+
     def _descends(self, phi, x, g, d) -> bool:
         """Whether the (clipped) step d from x decreases phi sufficiently (the settings' Armijo constant)."""
-        f = self.problem.filter
-        alpha = 1.0 if f is None else f.max_step(x, self._full(x, d))
-        xt = x.copy()
-        xt[self.problem.free] += alpha * d
+        xt, alpha = self._clipped(x, d)
         ft = phi(xt)
         return bool(np.isfinite(ft) and ft <= phi(x) + self.settings.armijo * alpha * float(g @ d))
 
     @staticmethod
     def _norm(d) -> float:
         return float(np.max(np.abs(d))) if d.size else 0.0
-
-    def _full(self, x, d):
-        """The free direction d (n_free,) as a flat vector (3 ndof,), zero on held degrees of freedom."""
-        dx = np.zeros_like(x)
-        dx[self.problem.free] = d
-        return dx
 
     def _check_load(self, report: NewtonReport, load, label: str) -> None:
         """Warn (once) when the tolerance accepted a residual as large as the load and the residual stayed of the

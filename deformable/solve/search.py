@@ -44,7 +44,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..registry import Registered
 
-__all__ = ["LineSearch", "Watchdog", "Armijo", "Candidate", "WATCHDOG", "candidates"]
+__all__ = ["LineSearch", "Watchdog", "Armijo", "Candidate", "WATCHDOG", "candidates", "spread"]
 
 #: full Newton steps taken in a row without a sufficient decrease of the potential before the watchdog steps back
 WATCHDOG = 6
@@ -176,6 +176,13 @@ class Watchdog(LineSearch):
         return xt, gt
 
 
+def spread(free, x, d) -> np.ndarray:
+    """The free direction d (n_free,) as a flat vector like x (3 ndof,), zero on the held degrees of freedom."""
+    dx = np.zeros_like(x)
+    dx[free] = d
+    return dx
+
+
 def candidates(f, free, stiffness, x, g, d, slope, inertia: bool):
     """A line search's candidates: Newton's direction d (free) with its slope, or, with the potential's direction
     filter f, the filter's proposal (in time steps, ``inertia``; ``stiffness`` the Newton matrix's diagonal without
@@ -183,8 +190,7 @@ def candidates(f, free, stiffness, x, g, d, slope, inertia: bool):
     direction as the fallback, computed only when asked for (:mod:`deformable.solve.newton`)."""
     if f is None:
         return Candidate(d, slope), None
-    dx = np.zeros_like(x)
-    dx[free] = d
+    dx = spread(free, x, d)
     plain = None
     if inertia:  # the filter's 1-D models need the inertia's stiffness (none in equilibrium)
         proposed = f.propose(x, dx, stiffness)
