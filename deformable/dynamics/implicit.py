@@ -91,6 +91,7 @@ class Implicit(Scheme):
     adaptive = True
     #: the predictor's acceleration term: the search starts from x-hat + start dt^2 a_n
     start: ClassVar[float] = 1.0
+    remembers = ("newton_floor", "lag")
 
     def __init__(self, model, dt: float | None = None, newton: NewtonSettings | dict | None = None,
                  solver: str = "auto"):
@@ -115,10 +116,12 @@ class Implicit(Scheme):
         raise NotImplementedError
 
     def memory(self) -> dict:
-        """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from."""
-        return {"newton_floor": self.newton.floor}
+        """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from, and the
+        factorisation lagged across steps, if one is kept (:meth:`deformable.solve.newton.Newton.memory`)."""
+        return {"newton_floor": self.newton.floor, **self.newton.memory()}
 
     def restore(self, memory: dict) -> None:
+        self.newton.recall(memory)  # before the floor: making the factorisation again sets a floor of its own
         if "newton_floor" in memory:
             self.newton.floor = real("memory.newton_floor", memory["newton_floor"], non_negative=True)
 
@@ -160,12 +163,9 @@ class Implicit(Scheme):
         # tolerance relative to the force imbalance at the inertial predictor x-hat; the search starts from the
         # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
         start = fl.hold(xhat, X0, t1)
-        # the step test, in a step without obstacles (deformable.solve.newton, "Convergence tests"); its scale is
-        # the residual at the search's start (one gradient fewer a step)
+        scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
+        # the step test, in a step without obstacles (deformable.solve.newton, "Convergence tests")
         xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and fl.contact is None else None
-        scale = None
-        if xtol is None:
-            scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
         if state.A is not None:
             start = fl.hold(xhat + (self.start * dt**2) * flat(state.A), X0, t1)
         if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow

@@ -59,8 +59,12 @@ class Scheme(Registered, family="scheme"):
         """The state at t + dt (``X0``: the run's constraint reference)."""
         raise NotImplementedError
 
+    #: the keys :meth:`memory` may hold
+    remembers: ClassVar[tuple[str, ...]] = ()
+
     def memory(self) -> dict:
-        """What the scheme carries from one step to the next besides the state, as numbers (name -> number).
+        """What the scheme carries from one step to the next besides the state, as numbers (name -> number or
+        table of numbers; its keys among :attr:`remembers`).
 
         A checkpoint keeps it, so that a resumed run is the same run; none by default.
         """

@@ -221,7 +221,8 @@ class TimeStepper:
 
         ``dt_now`` (the adapted step, s), ``accepted`` (steps accepted since dt last changed: dt doubles
         after :data:`GROW_AFTER` of them), ``rejected`` (steps retried so far) and the scheme's own
-        (:meth:`Scheme.memory`: Newton's round-off floor), and under ``trackers`` that of the trackers of
+        (:meth:`Scheme.memory`: Newton's round-off floor and where a factorisation lagged across steps was
+        made), and under ``trackers`` that of the trackers of
         the current run that keep one (by class name: the divergence guard's energy budget and peaks). The
         state (X, V, A, t, step) is the rest of what the next step depends on; with both, a resumed run is
         the same run bit for bit, its guard's decisions included.
@@ -240,7 +241,7 @@ class TimeStepper:
             raise InputError(f"memory must be a dict of the controller's numbers, got {memory!r:.60}", field="memory",
                              value=memory)
         own = {"dt_now", "accepted", "rejected", "trackers"}
-        known_keys(memory, sorted(own | set(self._scheme.memory())), "in the controller's memory")
+        known_keys(memory, sorted(own | set(self._scheme.remembers)), "in the controller's memory")
         if "dt_now" in memory:
             dt_now = real("memory.dt_now", memory["dt_now"], positive=True)
             if not self.dt_min * (1 - 1e-12) <= dt_now <= self.dt * (1 + 1e-12):

@@ -13,8 +13,9 @@ r"""Where Newton's directions come from: the Newton matrix, its factorisation ke
   tension stiffness); a Levenberg-Marquardt shift is the last resort for a
   singular matrix. :attr:`exact` says which one is at hand;
 - a chord direction is a solve with the factorisation at hand, made at an
-  earlier iterate (of this solve or, with ``NewtonSettings(lag=True)``, of an
-  earlier time step);
+  earlier iterate (of this solve or, under ``NewtonSettings(lag=True)``, of an
+  earlier time step), kept while the chords still needed cost less than a
+  factorisation (:meth:`slow`, a count);
 - an inexact direction (:meth:`inexact`) solves the exact Newton matrix at
   the current iterate by conjugate gradients preconditioned by the
   factorisation at hand (:mod:`deformable.solve.krylov`), within a budget of
@@ -23,7 +24,9 @@ r"""Where Newton's directions come from: the Newton matrix, its factorisation ke
   when CG does not converge within it or meets negative curvature.
 
 The costs are wall-clock seconds of this process, kept in each solve's
-:class:`deformable.solve.newton.NewtonReport` ("hessian", "factor", "solve").
+:class:`deformable.solve.newton.NewtonReport` ("hessian", "factor", "solve");
+only the (opt-in) CG budget reads them, so only a run under ``krylov`` may
+depend on the machine's load.
 """
 
 from __future__ import annotations
@@ -36,8 +39,10 @@ import scipy.sparse as sp
 
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import make_solver
-from ..errors import SingularMatrix
+from ..checks import real
+from ..errors import InputError, SingularMatrix
 from .krylov import pcg
+from .settings import NewtonReport
 
 __all__ = ["Directions"]
 
@@ -67,6 +72,7 @@ class Directions:
         self.here = False  # it was made at the current iterate
         self.floor = 0.0  # the round-off floor of the last Newton matrix (N)
         self.damping = None  # an extra damping matrix of the current solve (already times c_C)
+        self.made = None  # (x, the problem's t, damping) of the factorisation at hand: a checkpoint keeps it
         self.stiffness = None  # with a filter: the Newton matrix's diagonal without the filter's Hessian (3 ndof,)
         self._cost = {"hessian": None, "factor": None, "solve": None, "product": None}  # the last seconds of each
 
@@ -103,6 +109,7 @@ class Directions:
         auto = self.settings.hessian == "auto"
         A = self.matrix(x, cm, cc, report) if A is None else A
         self.factored, self.here = (cm, cc), True
+        self.made = (x.copy(), float(getattr(self.problem, "t", 0.0)), self.damping)  # what the factorisation is of
         if auto:
             t0 = time.perf_counter()
             try:
@@ -137,6 +144,38 @@ class Directions:
         report.seconds["factor"] += seconds
         self._cost["factor"] = seconds
 
+    # -- a checkpoint's memory ----------------------------------------------------------
+    def memory(self) -> dict:
+        """Where the factorisation at hand was made, as numbers: {"x", "t", "cm", "cc", "damping"} (the iterate
+        (3 ndof,), the problem's time (s), the multipliers, the extra damping as COO rows, columns, values)."""
+        x, t, damping = self.made
+        c = sp.coo_matrix((x.size, x.size)) if damping is None else sp.coo_matrix(damping)
+        return {"x": x.tolist(), "t": t, "cm": self.factored[0], "cc": self.factored[1],
+                "damping": [c.row.tolist(), c.col.tolist(), c.data.tolist()]}
+
+    def recall(self, lag) -> None:
+        """Factorise again the Newton matrix :meth:`memory` describes (InputError naming the key when it does
+        not fit this problem)."""
+        p = self.problem
+        if not isinstance(lag, dict) or sorted(lag) != ["cc", "cm", "damping", "t", "x"]:
+            raise InputError(f"memory.lag must hold x, t, cm, cc and damping, got {lag!r:.60}", field="memory.lag",
+                             value=lag)
+        x = np.asarray(lag["x"], dtype=float)
+        if x.shape != (3 * p.n,):
+            raise InputError(f"memory.lag.x has {x.size} numbers, not the model's {3 * p.n}", field="memory.lag.x",
+                             value=x.size)
+        parts = [np.asarray(v) for v in lag["damping"]] if isinstance(lag["damping"], list) else []
+        rows, cols, data = parts if len(parts) == 3 and parts[0].shape == parts[1].shape == parts[2].shape else (
+            None, None, None)
+        if rows is None or rows.size and (min(rows.min(), cols.min()) < 0 or max(rows.max(), cols.max()) >= x.size):
+            raise InputError("memory.lag.damping is not a matrix of the model's size", field="memory.lag.damping",
+                             value=str(lag["damping"])[:60])
+        cm, cc = (real(f"memory.lag.{k}", lag[k], non_negative=True) for k in ("cm", "cc"))
+        t, before = real("memory.lag.t", lag["t"]), getattr(p, "t", 0.0)
+        p.t, self.damping = t, sp.csr_matrix((data, (rows, cols)), shape=(x.size, x.size)) if rows.size else None
+        self.factor_at(x, cm, cc, NewtonReport())  # a report of its own: this factorisation is no solve's
+        p.t, self.here = before, False
+
     # -- directions -----------------------------------------------------------------
     def solve(self, g: np.ndarray, report) -> np.ndarray:
         """The chord (or Newton) direction ``-A^-1 g`` with the factorisation at hand."""
@@ -152,19 +191,18 @@ class Directions:
         "product" in this run (0 before the first)."""
         return self._cost[name] or 0.0
 
-    def slow(self, size: float, last: float, xtol: float, search: float) -> bool:
+    def slow(self, size: float, last: float, xtol: float) -> bool:
         """Whether to refactorise rather than go on with chord directions: the chord iterations still needed to
-        bring the direction's max-norm ``size`` under ``xtol`` at the contraction just seen (``size / last``),
-        each a solve and a line-search step of ``search`` seconds, cost more than a new factorisation (with its
-        assembly) and one iteration; always when the contraction is above the settings' ``contraction``."""
+        bring the direction's max-norm ``size`` under ``xtol`` at the contraction just seen (``size / last``)
+        outnumber the settings' ``chords`` (what a factorisation with its assembly costs, in chord iterations)
+        plus one; always when the contraction is above the settings' ``contraction``. A count, not measured
+        seconds, so that a run's trajectory does not depend on the machine's load."""
         if size <= xtol:
             return False
         ratio = size / last
         if not ratio < self.settings.contraction:
             return True
-        needed = math.log(xtol / size) / math.log(ratio)
-        chord = self.cost("solve") + (search or 0.0)
-        return needed * chord > self.cost("factor") + self.cost("hessian") + chord
+        return math.log(xtol / size) / math.log(ratio) > self.settings.chords + 1
 
     def break_even(self) -> int:
         """CG's budget: the iterations (one solve and one product each) that cost one factorisation, from the

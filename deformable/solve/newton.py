@@ -37,23 +37,22 @@ The potential's elastic part may carry the scene's springs
 the time :attr:`FlatEnergy.t`; the wind, not conservative, enters the
 implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
 
-Convergence tests (``NewtonSettings(test=...)``). "force" (the default): the
-max-norm of the free residual at most ``rtol`` times its scale. "step"
-(opt-in, time steps without obstacles): also when a trusted direction moves
-no degree of freedom further than ``vtol dt`` (Li et al. 2020, IPC, section
-5); x + d is then returned without a further gradient. A direction is trusted
-when it comes from a factorisation of the exact Newton matrix, or after the
-directions contracted at least twofold (a definite fallback's). With
-``lag=True`` a factorisation outlives a solve that ended on the step test with
-no fallback, chords going on while they pay (:meth:`Directions.slow`);
-``krylov=True``: PCG on the exact matrix instead (:mod:`.krylov`).
-Measured (FD 64 x 64 nodes, one thread, CPU time, 0.5 s): the curtain 14.7 s
-under "force", 8.2 s under "step" with ``lag`` (Newton error 0.7 % of the
-difference between dt and dt/2); the flag 54.4 -> 45.7 s; the hanging cloth
-unchanged; PCG slower everywhere measured (FD 64 14.9 s, FD 128 25.8 against
-16.3 s without), as the exact matrix's assembly costs about a factorisation.
-A lagged factorisation is not in a checkpoint: a resumed run under ``lag`` is
-not bit-identical, which is why these are not the defaults yet.
+Convergence tests (``NewtonSettings(test=...)``). "force": the max-norm of
+the free residual at most ``rtol`` times its scale. "step" (the default;
+it applies in time steps without obstacles, "force" elsewhere): also when a
+trusted direction moves no degree of freedom further than ``vtol dt`` (Li
+et al. 2020, IPC, section 5); x + d is then returned without a further
+gradient. A direction is trusted when it comes from a factorisation of the
+exact Newton matrix, or after the directions contracted at least twofold (a
+definite fallback's). Under ``lag`` (default) a factorisation outlives a
+solve that ended on the step test with no fallback, chords going on while
+they pay (:meth:`Directions.slow`, a count: the trajectory does not depend
+on the machine's load); a checkpoint keeps where it was made and a resumed
+run makes it again (:meth:`Newton.memory`, :meth:`Newton.recall`), so the
+run continues bit for bit. ``krylov=True``: PCG on the
+exact matrix instead (:mod:`.krylov`). The Newton error this leaves against
+the time discretisation's is measured in docs/design.md ("Newton's
+convergence test"); studies that need a tight solve set ``test="force"``.
 
 Loads below the absolute terms of the tolerance. The tolerance has two
 absolute terms, ``atol`` and the round-off floor of the internal forces
@@ -96,23 +95,19 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
 
 from ..algebra.solvers import one_blas_thread
-from ..checks import known_keys
-from ..errors import ConvergenceError, InputError, LoadBelowRoundOff
+from ..errors import ConvergenceError, LoadBelowRoundOff
 from .directions import Directions
 from .krylov import forcing
 from .potential import FlatEnergy
 from .search import LineSearch, candidates, spread
+from .settings import NewtonReport, NewtonSettings
 
 __all__ = ["NewtonReport", "NewtonSettings", "Newton", "DirectionFilter"]
-
-#: the convergence tests (module docstring, "Convergence tests")
-TESTS = ("step", "force")
 
 #: a reused factorisation is kept while each iteration with it reduces the residual at least this much (ratio)
 CONTRACTION = 0.01
@@ -135,134 +130,6 @@ class DirectionFilter(Protocol):
         """The diagonal (3 ndof,) of the filter's own Hessian, as last assembled into the Newton matrix."""
 
 
-@dataclass
-class NewtonReport:
-    """Iterations, residual history and cost of one Newton solve."""
-
-    iterations: int = 0
-    residuals: list = field(default_factory=list)
-    converged: bool = False
-    floor: float = 0.0  # round-off floor the tolerance was raised to, if any (N)
-    scale: float = 0.0  # the residual rtol is relative to (N)
-    tolerance: float = 0.0  # the residual the solve had to reach (N)
-    load: float | None = None  # max-norm of the applied load on the free dofs, where the tolerance needed it (N)
-    lost: bool = False  # the load was at or below the tolerance and the residual stayed of its size (module docstring)
-    factorisations: int = 0
-    fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
-    cg: int = 0  # conjugate-gradient iterations (products with the Newton matrix) of the inexact directions
-    by: str = "force"  # the test that ended the solve: "force" or "step"
-    xtol: float | None = None  # the step test's tolerance (m), where it applied
-    step: float = 0.0  # the max-norm of the last direction (m); by "step": at most xtol, the step added to x
-    seconds: dict = field(default_factory=lambda: {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0})
-
-
-@dataclass(frozen=True)
-class NewtonSettings:
-    """Settings of :class:`Newton`, checked.
-
-    Parameters
-    ----------
-    rtol, atol : float
-        Converged when the max-norm of the free residual is at most ``max(rtol * scale, atol)`` (atol in
-        N), never below the round-off floor of the internal forces; the scale is the residual at the start
-        unless the caller gives one. In a time step it is the force imbalance at the inertial predictor
-        x_n + dt v_n, so rtol bounds the Newton error against the step's correction, itself of the size of
-        implicit Euler's local error. Measured on the curtain (FD 16 x 16 nodes, 1 s at dt = 5 ms), the
-        largest position difference from a solve to rtol = 1e-10: 5.9e-5 m at the default rtol = 1e-3
-        (1.65 iterations a step), 1.4e-6 m at 1e-4 (2.05), against 3.5e-2 m between dt and dt / 2: the
-        Newton error is 0.2 % of the scheme's own. A study of temporal order asks for less (e.g. 1e-10).
-        atol is capped at rtol times the applied load, so that it never swallows a load far below 1 N
-        (module docstring, "Loads below the absolute terms of the tolerance").
-    max_iter : int
-        Iterations per solve (0 allowed: a solve that must already be converged).
-    hessian : str
-        "auto" (default): the exact Hessian when the Newton matrix it gives is positive definite (the
-        factorisation tells), else the "definite" one; or one of "definite", "newton", "gauss-newton",
-        "projected" (:mod:`deformable.physics.integrand`).
-    solver : str
-        "auto", "superlu" or "pardiso" (:mod:`deformable.algebra.solvers`).
-    reuse : bool
-        Keep a factorisation while it contracts (module docstring).
-    search : str
-        The line search, a registered :class:`deformable.solve.search.LineSearch`: "watchdog" (default) or
-        "armijo".
-    armijo : float
-        The sufficient-decrease constant c of the line search's Armijo test, in (0, 1/2).
-    test, vtol : str, float
-        "force" (default) or "step": also converged on a trusted direction no longer than vtol dt (m/s; time
-        steps without obstacles; module docstring, "Convergence tests").
-    lag, contraction, krylov : bool, float, bool
-        Under "step": keep a factorisation across steps; refactorise when a chord contracts less than
-        ``contraction`` (or does not pay); PCG instead of a refactorisation (measured slower: off).
-    fallback : str
-        The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
-    """
-
-    rtol: float = 1e-3
-    atol: float = 1e-12
-    max_iter: int = 30
-    hessian: str = "auto"
-    solver: str = "auto"
-    reuse: bool = True
-    search: str = "watchdog"
-    armijo: float = 1e-4
-    test: str = "force"
-    vtol: float = 1e-2
-    lag: bool = False
-    contraction: float = 0.9
-    krylov: bool = False
-    fallback: str = "definite"
-
-    def __post_init__(self):
-        from ..algebra.solvers import SOLVERS
-        from ..physics.integrand import HESSIANS
-
-        for name in ("rtol", "atol"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
-                raise InputError(f"newton {name} must be a finite non-negative number, got {v!r}")
-        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 0:
-            raise InputError(f"newton max_iter must be a non-negative integer, got {self.max_iter!r}")
-        if self.hessian not in ("auto",) + HESSIANS:
-            raise InputError(f"newton hessian must be 'auto' or one of {HESSIANS}, got {self.hessian!r}")
-        if self.solver not in SOLVERS:
-            raise InputError(f"newton solver must be one of {SOLVERS}, got {self.solver!r}")
-        if not isinstance(self.search, str) or self.search not in LineSearch.names():
-            raise InputError(f"newton search must be one of {', '.join(LineSearch.names())}, got {self.search!r}",
-                             field="newton.search", value=self.search)
-        if self.fallback not in ("definite", "projected"):
-            raise InputError(f"newton fallback must be 'definite' or 'projected', got {self.fallback!r}",
-                             field="newton.fallback", value=self.fallback)
-        if self.test not in TESTS:
-            raise InputError(f"newton test must be one of {', '.join(TESTS)}, got {self.test!r}", field="newton.test",
-                             value=self.test)
-        for name in ("vtol", "contraction"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-                raise InputError(f"newton {name} must be a finite positive number, got {v!r}", field=f"newton.{name}",
-                                 value=v)
-        for name in ("lag", "krylov", "reuse"):
-            if not isinstance(getattr(self, name), bool):
-                raise InputError(f"newton {name} must be true or false, got {getattr(self, name)!r}",
-                                 field=f"newton.{name}", value=getattr(self, name))
-        c = self.armijo
-        if isinstance(c, bool) or not isinstance(c, (int, float)) or not 0 < c < 0.5:
-            raise InputError(f"newton armijo must lie in (0, 1/2), got {c!r}", field="newton.armijo", value=c)
-
-    @classmethod
-    def of(cls, value) -> NewtonSettings:
-        """Settings from a NewtonSettings, a dict of its fields or None (the defaults); InputError otherwise."""
-        if isinstance(value, cls):
-            return value
-        if value is None:
-            return cls()
-        if not isinstance(value, dict):
-            raise InputError(f"newton settings must be a NewtonSettings or a dict, got {value!r}", field="newton",
-                             value=value)
-        known_keys(value, cls.__dataclass_fields__, "in the newton settings", field="newton")
-        return cls(**value)
-
-
 class Newton:
     """Newton's method for potentials whose Newton matrix is ``c_M M + c_C C + Hess E`` (module docstring).
 
@@ -283,7 +150,21 @@ class Newton:
         self.directions = Directions(problem, self.settings)
         self._warned = False  # LoadBelowRoundOff said once for this object (one run)
         self._smooth = False  # the last solve ended on the step test without a fallback (module docstring)
-        self._search_cost = None  # the seconds of a line search step (with its gradient), a running mean
+        self._moved = 0.0  # the furthest a degree of freedom moved in the last iteration (m)
+
+    def memory(self) -> dict:
+        """A factorisation kept across solves (``lag``), for a checkpoint: {"lag": ...}
+        (:meth:`Directions.memory`), or {} when none is kept; :meth:`recall` makes it again, so that a resumed
+        run is the same run bit for bit."""
+        kept = self._smooth and not self.problem.linear and self.directions.factored is not None
+        return {"lag": self.directions.memory()} if kept else {}
+
+    def recall(self, memory: dict) -> None:
+        """Make again the factorisation :meth:`memory` describes (InputError naming the key when it does not fit
+        this problem)."""
+        if isinstance(memory, dict) and memory.get("lag") is not None:
+            self.directions.recall(memory["lag"])
+            self._smooth = True
 
     @property
     def solver(self):
@@ -372,6 +253,10 @@ class Newton:
             if F is not None and 0 < F <= max(s.rtol * report.scale, atol, report.floor):  # the floor may not stop it
                 start = max(s.rtol * report.scale, atol)
         target = report.tolerance = max(s.rtol * report.scale, atol, report.floor)
+        if D.factored is not None and not p.linear:  # lagged: only while the tolerance resolves the load, else a
+            F = report.load if report.load is not None else self._load(load)  # chord's error in the soft modes
+            if F is None or target >= F:  # (the stiff limit, section 3.1) goes unseen
+                D.factored = None
         report.residuals.append(r0)
         if r0 <= (target if start is None else start):
             report.converged = True
@@ -402,12 +287,11 @@ class Newton:
                 xt, gt = search.step(x, first, fallback, target, it, report.residuals[-1])
             except ConvergenceError as err:
                 raise ConvergenceError(str(err), report.residuals, err.X) from None
-            moved = float(np.max(np.abs(xt - x)))
+            moved = self._moved = float(np.max(np.abs(xt - x)))
             x = xt
             g = grad(x)[free] if gt is None else gt
             seconds = time.perf_counter() - t0
             report.seconds["search"] += seconds
-            self._search_cost = seconds if self._search_cost is None else 0.5 * (self._search_cost + seconds)
             report.residuals.append(float(np.max(np.abs(g))))
             report.iterations = it
             target = report.tolerance = max(target, report.floor)
@@ -427,17 +311,24 @@ class Newton:
         term used). ``trusted``: d solves the exact Newton matrix at x (fresh, or by CG), or comes from a chord of
         an exact factorisation; only such a direction may end a solve by the step test."""
         s, D = self.settings, self.directions
+        r = report.residuals
         if steps:
-            if D.factored is None or not s.reuse or not D.exact:  # no chords of a definite fallback
+            # no chords of a definite fallback, nor after an iteration that raised the residual or moved a degree
+            # of freedom further than a grid spacing (the factorisation's matrix is of a point far away)
+            far = len(r) >= 2 and (r[-1] > r[-2] or self._moved > self.problem.length)
+            if D.factored is None or not s.reuse or not D.exact or far:
                 D.factor_at(x, cm, cc, report)
             d = D.solve(g, report)
-            size, trusted = self._norm(d), D.exact
-            # a chord is dropped when it does not pay (contraction) or, first of the solve (a factorisation from an
-            # earlier step), when its step does not decrease phi sufficiently (a soft mode of the lagged matrix)
-            if not D.here and size > xtol and (D.slow(size, last, xtol, self._search_cost) if last is not None
-                                               else not self._descends(phi, x, g, d)):
+            size, trusted = self._norm(d), D.exact and D.here  # a chord ends a solve only once contracting
+            # a chord is dropped when it does not pay (contraction), when it is short but contracted less than
+            # twofold (its length alone bounds no error), or, first of the solve (a factorisation from an earlier
+            # step), when its step does not decrease phi sufficiently (a soft mode of the lagged matrix)
+            if last is None:
+                drop = size > xtol and not self._descends(phi, x, g, d)
+            else:
+                drop = size > 0.5 * last if size <= xtol else D.slow(size, last, xtol)
+            if not D.here and drop:
                 if s.krylov:
-                    r = report.residuals
                     forcing_term = forcing(r[-1], r[-2] if len(r) > 1 else None, forcing_term)
                     d, solved = D.inexact(x, g, d, cm, cc, forcing_term, report)
                     trusted = solved and s.hessian in ("auto", "newton") or (not solved and D.exact)
@@ -450,7 +341,6 @@ class Newton:
             return d, trusted, size, forcing_term
         # the force test: refactorise unless the factorisation at hand (also one from an earlier solve of a linear
         # model) keeps contracting the residual (CONTRACTION)
-        r = report.residuals
         slow = len(r) >= 2 and r[-1] > CONTRACTION * r[-2]
         if D.factored is None or not s.reuse or slow:
             D.factor_at(x, cm, cc, report)

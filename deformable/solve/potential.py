@@ -53,6 +53,9 @@ class FlatEnergy:
         The model's external forces.
     t : float
         The time of the springs' anchors in :meth:`energy`, :meth:`gradient`, :meth:`hessian` (s).
+    length : float
+        The grid's shortest spacing (scene units, m in the shipped scenes): an iterate that moved further than
+        this is far from where a kept factorisation was made (:class:`deformable.solve.newton.Newton`).
     linear : bool
         The Newton matrix does not depend on x (the frozen model, with linear springs at most, no wind, no
         obstacles).
@@ -66,6 +69,7 @@ class FlatEnergy:
     def __init__(self, model):
         model.scene.force_model.require_energy()
         self.model, self.n = model, model.ndof
+        self.length = float(min(model.spacing))
         I3 = sp.identity(3, format="csr")
         self.M = sp.kron(I3, model.mass(), format="csr")
         self.C = sp.kron(I3, model.damping(), format="csr")

@@ -94,6 +94,7 @@ def format_implicit(rows) -> str:
     return markdown_table(
         ("backend", "grid", "unknowns", "solver", "Newton iterations / step", "factorisations / step", "step ms",
          "ms / iteration", "factor+solve ms", "iteration / (factor+solve)", "step / semi-implicit step", "peak MB"),
-        [(r.backend, grid_label(r), r.unknowns, r.solver, f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
+        [(r.backend, grid_label(r), r.unknowns, r.solver, f"{r.newton_per_step:.2f}",
+          f"{r.factorisations_per_step:.2f}",
           f"{1e3 * r.step:.1f}", f"{1e3 * r.per_iteration:.1f}", f"{1e3 * (r.factor + r.solve):.1f}",
           f"{r.iteration_ratio:.2f}", f"{r.step_ratio:.1f}", f"{r.peak_mb:.0f}") for r in rows])

@@ -204,7 +204,8 @@ def _build(solver: str, n: int, cfg, iterations: int):
     model = builder.finalize(device="cpu")
     model.set_gravity((0.0, 0.0, -cfg.g))
     if solver == "style3d":
-        sim = newton.solvers.SolverStyle3D(model=model, config=newton.solvers.SolverStyle3D.Config(iterations=iterations))
+        config = newton.solvers.SolverStyle3D.Config(iterations=iterations)
+        sim = newton.solvers.SolverStyle3D(model=model, config=config)
         sim.collision = None
     else:
         sim = newton.solvers.SolverVBD(model=model, iterations=iterations)

@@ -12,10 +12,13 @@ few steps.
 
 from __future__ import annotations
 
+import contextlib
+import os
 import time
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from deformable import scenes
 from deformable.dynamics import TimeStepper
@@ -24,7 +27,7 @@ from validation.harness.report import markdown_table
 
 from .measure import grid_label, peak_memory, scene_config
 
-__all__ = ["SceneRow", "bench_scene", "format_scenes"]
+__all__ = ["SceneRow", "bench_scene", "run_scene", "format_scenes"]
 
 
 @dataclass(frozen=True)
@@ -41,36 +44,49 @@ class SceneRow:
     t_reached: float
     steps: int
     wall: float
+    cpu: float
     newton_per_step: float
     factorisations_per_step: float
     fallbacks_per_step: float
     peak_mb: float
 
 
-def bench_scene(scene: str, backend: str, n: int, t_end: float, solver: str = "auto") -> SceneRow:
-    """Run a shipped scene (energy-consistent, implicit Euler at its own dt, as every scene ships) for t_end seconds
-    on n nodes (FD) or n elements (FE) a side."""
+def run_scene(scene: str, backend: str, n: int, t_end: float, newton: dict | None = None, dt_factor: float = 1.0,
+              one_thread: bool = False):
+    """Run a shipped scene (energy-consistent, implicit Euler at ``dt_factor`` times its own dt) for t_end seconds
+    on n nodes (FD) or n elements (FE) a side, in this process: (its SceneRow, the final positions (ndof, 3)).
+    ``one_thread``: every thread pool held to one thread (MKL, OpenBLAS, the Hessian's blocks)."""
     cfg = scene_config(scene, backend, n)
     model = make_model(scenes.build(cfg), backend)
-    stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
-    t0 = time.perf_counter()
-    result = stepper.run(model.initial_state(), t_end=t_end)
-    wall = time.perf_counter() - t0
+    stepper = TimeStepper(model, cfg.dt * dt_factor, newton=newton)
+    if one_thread:
+        os.environ["OMP_NUM_THREADS"] = "1"  # the Hessian's blocks (deformable.physics.integrand.hessian_threads)
+    with threadpool_limits(1) if one_thread else contextlib.nullcontext():
+        t0, c0 = time.perf_counter(), time.process_time()
+        result = stepper.run(model.initial_state(), t_end=t_end)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     reports = stepper.newton_reports
 
     def per_step(name):
-        return float(np.mean([getattr(r, name) for r in reports]))
+        return float(np.mean([getattr(r, name) for r in reports])) if reports else float("nan")
 
-    return SceneRow(scene, backend, f"{n}x{n}", 3 * model.ndof, cfg.dt, t_end, result.status, result.state.t,
-                    result.steps, wall, per_step("iterations"), per_step("factorisations"), per_step("fallbacks"),
-                    peak_memory())
+    row = SceneRow(scene, backend, f"{n}x{n}", 3 * model.ndof, stepper.dt, t_end, result.status, result.state.t,
+                   result.steps, wall, cpu, per_step("iterations"), per_step("factorisations"), per_step("fallbacks"),
+                   peak_memory())
+    return row, np.asarray(result.state.X)
+
+
+def bench_scene(scene: str, backend: str, n: int, t_end: float, solver: str = "auto") -> SceneRow:
+    """Run a shipped scene (energy-consistent, implicit Euler at its own dt, as every scene ships) for t_end seconds
+    on n nodes (FD) or n elements (FE) a side."""
+    return run_scene(scene, backend, n, t_end, dict(solver=solver))[0]
 
 
 def format_scenes(rows) -> str:
     """A markdown table of scene rows."""
     return markdown_table(
-        ("scene", "backend", "grid", "unknowns", "dt (ms)", "status", "t reached (s)", "steps", "wall (s)",
+        ("scene", "backend", "grid", "unknowns", "dt (ms)", "status", "t reached (s)", "steps", "wall (s)", "CPU (s)",
          "Newton / step", "factorisations / step", "definite fallbacks / step", "peak MB"),
         [(r.scene, r.backend, grid_label(r), r.unknowns, f"{1e3 * r.dt:g}", r.status, f"{r.t_reached:g}", r.steps,
-          f"{r.wall:.1f}", f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
+          f"{r.wall:.1f}", f"{r.cpu:.1f}", f"{r.newton_per_step:.2f}", f"{r.factorisations_per_step:.2f}",
           f"{r.fallbacks_per_step:.2f}", f"{r.peak_mb:.0f}") for r in rows])

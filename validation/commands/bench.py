@@ -64,9 +64,26 @@ def configure(parser) -> None:
                         help="scene rows, FE: elements a side (default with --backend fe or all: 32); '' for none")
     parser.add_argument("--scene-time", default="2", metavar="T",
                         help="scene rows: seconds of motion (default: 2)")
+    parser.add_argument("--rates", action="store_true",
+                        help="rate rows: simulated s per CPU s (one thread) of --rates-scenes for --rates-time s under "
+                        "the defaults and under ce6e554's Newton settings, with the Newton error of each against a "
+                        "tight solve and the dt vs dt/2 difference (minutes to hours; default: off)")
+    parser.add_argument("--rates-scenes", default="curtain,flag,sphere", metavar="NAME,...",
+                        help="rate rows: the scenes (default: curtain,flag,sphere)")
+    parser.add_argument("--rates-fd", default="32,64,128", metavar="N,...",
+                        help="rate rows, FD: nodes a side (default: 32,64,128); '' for none")
+    parser.add_argument("--rates-fe", default="16,32", metavar="N,...",
+                        help="rate rows, FE: elements a side (default: 16,32); '' for none")
+    parser.add_argument("--rates-curtain-fd", default="256", metavar="N,...",
+                        help="rate rows, the curtain alone, FD: further nodes a side (default: 256); '' for none")
+    parser.add_argument("--rates-time", default="2", metavar="T",
+                        help="rate and peer rows: seconds of motion (default: 2)")
+    parser.add_argument("--peers", action="store_true",
+                        help="peer rows: newton's VBD and Style3D (pip install newton warp-lang) on the 64 x 64 "
+                        "hanging cloth, beside this project's hanging cloth on FD 64 x 64 nodes (default: off)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
-    parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv "
-                        "and bench_scenes.csv (default: reports/bench)")
+    parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
+                        "bench_scenes.csv, bench_rates.csv and bench_peers.csv (default: reports/bench)")
 
 
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
@@ -119,16 +136,43 @@ def _parse(args):
     for name in names:
         if name not in scenes.SCENES:
             raise InputError(f"--scenes: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
-    try:
-        t_end = float(args.scene_time)
-    except ValueError:
-        t_end = math.nan
-    if not (math.isfinite(t_end) and t_end > 0):
-        raise InputError(f"--scene-time must be a positive number of seconds, got {args.scene_time!r}")
+    t_end = _seconds(args.scene_time, "--scene-time")
     scene_grids = _row_sizes(args, "scene", backends)
     if names and not any(scene_grids.values()):
         raise InputError(f"--scenes {args.scenes!r} needs a grid: --scene-fd or --scene-fe")
-    return backends, sizes, implicit, contact, steps, (names, scene_grids, t_end)
+    return backends, sizes, implicit, contact, steps, (names, scene_grids, t_end), _rate_jobs(args)
+
+
+def _seconds(text, flag: str) -> float:
+    """A positive number of seconds; InputError naming ``flag`` otherwise."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise InputError(f"{flag} must be a positive number of seconds, got {text!r}")
+    return value
+
+
+def _rate_jobs(args) -> tuple[list, float]:
+    """The rate rows' (scene, backend, n) and their seconds of motion; none without --rates (the hanging cloth
+    on FD 64 with --peers)."""
+    t_end = _seconds(args.rates_time, "--rates-time")
+    jobs = []
+    if args.rates:
+        names = [name.strip() for name in str(args.rates_scenes).split(",") if name.strip()]
+        for name in names:
+            if name not in scenes.SCENES:
+                raise InputError(f"--rates-scenes: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
+        fd, fe = (_sizes(getattr(args, f"rates_{b}"), f"--rates-{b}", allow_empty=True) for b in ("fd", "fe"))
+        extra = _sizes(args.rates_curtain_fd, "--rates-curtain-fd", allow_empty=True)
+        jobs = [(name, "fd", n) for name in names for n in fd] + [(name, "fe", n) for name in names for n in fe]
+        jobs += [("curtain", "fd", n) for n in extra if ("curtain", "fd", n) not in jobs]
+        if not jobs:
+            raise InputError("--rates needs a scene and a grid: --rates-scenes with --rates-fd or --rates-fe")
+    if args.peers and ("hanging", "fd", 64) not in jobs:
+        jobs.append(("hanging", "fd", 64))
+    return jobs, t_end
 
 
 def execute(args) -> int:
@@ -136,7 +180,8 @@ def execute(args) -> int:
     bench_scenes.csv for the rows asked for)."""
     from validation.harness.report import writable_folder
 
-    backends, sizes, implicit, contact, (steps, contact_steps), (names, scene_grids, t_end) = _parse(args)
+    parsed = _parse(args)
+    backends, sizes, implicit, contact, (steps, contact_steps), (names, scene_grids, t_end), rates = parsed
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
     rows = [in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
     emit(out / "bench.csv", rows, format_table,
@@ -155,4 +200,28 @@ def execute(args) -> int:
         print(f"scene {k} of {len(jobs)}: {name} {b} {n}x{n}, {t_end:g} s of motion", flush=True)
         srows.append(in_own_process(bench_scene, name, b, n, t_end, args.solver))
     emit(out / "bench_scenes.csv", srows, format_scenes)
+    _rates(out, *rates, args.peers)
     return 0
+
+
+def _rates(out: Path, jobs, t_end: float, peers: bool) -> None:
+    """The rate rows, the peer rows and the verdicts computed from them (bench_rates.md)."""
+    from validation.benches.peers import bench_peers, format_peers
+    from validation.benches.rates import bench_rates, format_rates, verdicts
+
+    rows = []
+    for k, (name, b, n) in enumerate(jobs, 1):  # minutes to hours each: say which one runs
+        print(f"rate rows {k} of {len(jobs)}", flush=True)
+        rows += bench_rates(name, b, n, t_end)
+    emit(out / "bench_rates.csv", rows, format_rates)
+    prows = []
+    if peers:
+        print(f"peer rows: newton's VBD and Style3D on the 64 x 64 hanging cloth, {t_end:g} s", flush=True)
+        prows = in_own_process(bench_peers, 64, t_end)
+        emit(out / "bench_peers.csv", prows, format_peers)
+    if rows:
+        lines = verdicts(rows, prows)
+        print("\n".join(lines))
+        (out / "bench_rates.md").write_text("# Rates: issue 27's targets, computed from this run\n\n"
+                                            + "".join(f"- {line}\n" for line in lines))
+        print(f"wrote {out / 'bench_rates.md'}")

@@ -131,10 +131,16 @@ def test_a_step_too_large_for_newton_is_retried_with_smaller_steps_that_grow_bac
     assert stepper.rejected > 0 and all(r.converged for r in stepper.newton_reports)
     assert len(stepper.newton_reports) == result.steps
     assert stepper.dt_now > stepper.dt_min  # grew back after the rejections
-    # the tolerance every report met: max(rtol * scale, atol) (scale: the residual at the inertial predictor),
-    # raised to the round-off floor at most
-    for r in stepper.newton_reports:
-        assert r.residuals[-1] <= r.tolerance <= max(NewtonSettings().rtol * r.scale, 1e-12, r.floor) and r.scale > 0
+    # the test every report met: the force test's max(rtol * scale, atol) (scale: the residual at the inertial
+    # predictor), raised to the round-off floor at most, or the step test's last direction within vtol * dt
+    settings = NewtonSettings()
+    for r, dt in zip(stepper.newton_reports, stepper.steps_taken):
+        assert r.tolerance <= max(settings.rtol * r.scale, 1e-12, r.floor) and r.scale > 0
+        if r.by == "step":
+            assert r.step <= r.xtol == pytest.approx(settings.vtol * dt, rel=1e-12)
+        else:
+            assert r.by == "force" and r.residuals[-1] <= r.tolerance
+    assert any(r.by == "step" for r in stepper.newton_reports)  # the default test, without obstacles
 
 
 def test_a_run_whose_steps_never_converge_stalls_with_its_last_good_state():

@@ -76,8 +76,36 @@ def test_a_lagged_factorisation_serves_several_steps():
     assert factorisations < sum(r.factorisations for r in plain.newton_reports)
 
 
+def test_a_step_far_larger_than_the_motion_does_not_make_energy():
+    """The hanging cloth at dt = 5 s (its swing's period is about 2 s): the first Newton step moves the sheet
+    about 100 m before it comes back. A chord of that first factorisation kept the iterate on another branch,
+    where the run's energy grew from 4.4 J to 315 J (the guard's divergence); a factorisation is now renewed
+    after an iteration that raised the residual or moved a node further than a grid spacing."""
+    cfg = scenes.config("hanging", nodes=(8, 8))
+    model = make_model(scenes.build(cfg), "fd")
+    result = dm.TimeStepper(model, 5.0).run(model.initial_state(), steps=16)
+    assert result.status == "finished", result.message
+
+
+def test_a_checkpoint_keeps_where_the_lagged_factorisation_was_made_and_refuses_one_of_another_model():
+    model, dt = _curtain()
+    st = dm.TimeStepper(model, dt)
+    st.run(model.initial_state(), steps=6)
+    memory = st.memory()
+    lag = memory["lag"]
+    assert len(lag["x"]) == 3 * model.ndof and lag["cm"] > 0
+    again = dm.TimeStepper(model, dt)
+    again.restore(memory)  # makes the factorisation again
+    assert again._scheme.newton.directions.factored == (lag["cm"], lag["cc"])
+    for key, value, field in (("x", [0.0] * 5, "memory.lag.x"), ("damping", [[0], [1]], "memory.lag.damping"),
+                              ("cm", -1.0, "memory.lag.cm")):
+        with pytest.raises(InputError, match=field):
+            dm.TimeStepper(model, dt).restore(dict(memory, lag=dict(lag, **{key: value})))
+
+
 @pytest.mark.parametrize("field, value", [("test", "residual"), ("vtol", 0.0), ("vtol", float("nan")),
-                                          ("lag", 1), ("contraction", -1.0), ("fallback", "gauss")])
+                                          ("lag", 1), ("contraction", -1.0), ("chords", 0.0),
+                                          ("fallback", "gauss")])
 def test_bad_settings_are_refused_naming_the_field(field, value):
     with pytest.raises(InputError, match=field):
         NewtonSettings(**{field: value})
