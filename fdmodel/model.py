@@ -258,13 +258,21 @@ class FDModel:
         slots = {"node": (self._node_slots, node_offset), "backward": (self._backward_slots, backward_offset),
                  "cell": (self._cell_slots, None)}
         params = {name: self.fields[name] for name in fm.fields}
+        # a density that reads the rest metric (EnergyModel.rest) gets a whole one at each point: the cells'
+        # own; at the nodes, the centred one (each component of a node part stands at its own centre, a
+        # component the part does not carry is not there): exact for a uniform rest metric, first order where
+        # it varies, as a node's weights are
+        node_metric = None
+        if fm.rest:
+            node_metric = self.scene.rest_tensors(self.a1, self.a2, *self._centred_tensors(X_rest))[0]
         out = []
         for part, weights in q.items():
             if not any(np.any(w) for w in weights):
                 continue
             smap, rest_offset = slots[part]
             G0, B0 = self.scene.rest_tensors(self.a1, self.a2, *smap.tensors(X_rest, rest_offset))
-            out.append((smap, DensityIntegrand(fm, params, area * np.stack(weights), G0, B0, smap.layout)))
+            own = dict(params, G0=G0 if part == "cell" else node_metric) if fm.rest else params
+            out.append((smap, DensityIntegrand(fm, own, area * np.stack(weights), G0, B0, smap.layout)))
         return out
 
     def _centred_tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

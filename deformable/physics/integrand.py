@@ -252,6 +252,8 @@ class DensityIntegrand(_Points):
         self.q = np.ascontiguousarray(np.asarray(q, float).reshape(6, -1))
         G0, B0 = (np.asarray(a, float).reshape(2, 2, -1) for a in (G0, B0))
         self.rest = np.stack([G0[0, 0], G0[1, 1], G0[0, 1], B0[0, 0], B0[1, 1], B0[0, 1]])
+        if model.rest and "G0" not in self.params:  # the density reads the rest metric at its points (a backend
+            self.params["G0"] = np.ascontiguousarray(G0)  # may give one of its own: fdmodel's node parts)
         self.P = self.q.shape[1]
         # the groups the model couples that these points carry, each with its one weight
         self.groups = []

@@ -2,7 +2,8 @@
 
 - :class:`TPBF87` (``"tpbf87"``): the paper's force (14)-(15), a strength matrix K(r) (:mod:`.tpbf87`);
 - :class:`Frozen` (``"frozen"``): alpha and beta given directly, section 3.2 (:mod:`.frozen`);
-- :class:`Variational` (``"variational"``): the exact gradient of the energy (13) (:mod:`.variational`).
+- :class:`Variational` (``"variational"``): the exact gradient of the energy (13) (:mod:`.variational`);
+- :class:`Koiter` (``"koiter"``): Koiter's isotropic shell, E, nu and h, strains in the rest metric (:mod:`.koiter`).
 
 A new energy is one subclass of :class:`EnergyModel` with a ``name`` and its density W(s, b) with two
 derivatives (examples/custom_energy.py).
@@ -10,8 +11,9 @@ derivatives (examples/custom_energy.py).
 
 from .base import RESIDUALS, EnergyModel, ForceModel, StrengthModel, energy_density
 from .frozen import Frozen, QuadraticEnergy
+from .koiter import Koiter
 from .tpbf87 import TPBF87, alpha, beta, stretching_step
 from .variational import Variational
 
 __all__ = ["ForceModel", "StrengthModel", "EnergyModel", "RESIDUALS", "energy_density", "TPBF87", "Frozen",
-           "Variational", "QuadraticEnergy", "alpha", "beta", "stretching_step"]
+           "Variational", "Koiter", "QuadraticEnergy", "alpha", "beta", "stretching_step"]

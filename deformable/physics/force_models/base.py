@@ -36,6 +36,7 @@ must be evaluated at one point (:mod:`fdmodel.energy` says where).
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import ClassVar
 
@@ -66,6 +67,17 @@ def energy_density(eta, xi, G, G0, B, B0) -> tuple[np.ndarray, np.ndarray]:
     if B is None:
         return stretching, np.zeros_like(stretching)
     return stretching, np.sum(xi * (B - B0) ** 2, axis=(0, 1))
+
+
+class _class_or_instance:
+    """A method bound to the instance it is read from, or to the class when read from the class."""
+
+    def __init__(self, method):
+        self.method = method
+        functools.update_wrapper(self, method)
+
+    def __get__(self, obj, cls):
+        return functools.partial(self.method, cls if obj is None else obj)
 
 
 class ForceModel(Registered, family="force model"):
@@ -223,6 +235,10 @@ class EnergyModel(ForceModel):
         The backends take the compiled fast path of eq. (13) (:class:`deformable.physics.integrand.Integrand`)
         instead of calling the methods; only :class:`Variational` itself sets it (a subclass that changes the
         density is called, not compiled).
+    rest : bool
+        The density reads the rest metric: ``params["G0"]`` (2, 2, P), at the points where the residuals are
+        (a shell energy measures strains in it, :class:`~deformable.physics.force_models.koiter.Koiter`); FD
+        gives its nodes' points the node-centred rest metric (:mod:`fdmodel.model`).
 
     The density must vanish in the rest state (W(0, 0) = 0): the rest shape carries no energy.
     """
@@ -232,21 +248,23 @@ class EnergyModel(ForceModel):
     fields: ClassVar[tuple[str, ...]] = ("eta", "xi")
     couples: ClassVar[tuple[tuple[str, ...], ...]] = (RESIDUALS,)
     compiled: ClassVar[bool] = False
+    rest: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         if "compiled" not in cls.__dict__:
             cls.compiled = False
-        for group in cls.couples:
+        for group in cls.couples if isinstance(cls.couples, tuple) else ():  # (a property: checked in groups)
             bad = [r for r in group if r not in RESIDUALS]
             if bad:
                 raise TypeError(f"{cls.__qualname__}.couples names {bad!r}; residuals are {RESIDUALS}")
 
-    @classmethod
-    def groups(cls) -> tuple[tuple[int, ...], ...]:
-        """:attr:`couples` as index tuples into :data:`RESIDUALS`, every residual in exactly one group."""
+    @_class_or_instance
+    def groups(self) -> tuple[tuple[int, ...], ...]:
+        """:attr:`couples` as index tuples into :data:`RESIDUALS`, every residual in exactly one group; of the
+        class, or of an instance (whose couples may depend on its parameters, as Koiter's on nu)."""
         out, seen = [], set()
-        for group in cls.couples:
+        for group in self.couples:
             idx = tuple(RESIDUALS.index(r) for r in group if RESIDUALS.index(r) not in seen)
             seen.update(idx)
             if idx:
@@ -274,6 +292,8 @@ class EnergyModel(ForceModel):
     def density_field(self, material_at, G, G0, B, B0):
         """Stretching and bending densities from :meth:`density`: W(s, 0) and W(s, b) - W(s, 0) (J/m^2)."""
         params = {f: material_at(f) for f in self.fields}
+        if self.rest:
+            params["G0"] = G0
         s = np.stack([G[0, 0] - G0[0, 0], G[1, 1] - G0[1, 1], G[0, 1] - G0[0, 1]])
         b = np.stack([B[0, 0] - B0[0, 0], B[1, 1] - B0[1, 1], B[0, 1] - B0[0, 1]])
         stretching = self.density(s, np.zeros_like(b), params)
