@@ -76,10 +76,11 @@ class NewtonSettings:
         "step" (default) or "force": "step" is also converged on a trusted direction no longer than vtol dt
         (vtol in m/s; time steps without obstacles; module docstring, "Convergence tests").
     lag, contraction, chords, krylov : bool, float, float, bool
-        Under "step": keep a factorisation across steps (default); refactorise when a chord contracts less than
-        ``contraction``, or when the chords still needed outnumber ``chords`` + 1 (a factorisation with its
-        assembly costs about ``chords`` chord iterations: 7-8 at FD 64-128, one thread); PCG instead of a
-        refactorisation (measured slower: off).
+        Under "step": keep a factorisation across steps (measured slower: off; module docstring of
+        :mod:`deformable.solve.newton`); refactorise when a chord contracts less than ``contraction``, or when
+        the chords still needed outnumber ``chords`` + 1 (a factorisation with its assembly costs about
+        ``chords`` chord iterations: 7-8 at FD 64-128, one thread); PCG instead of a refactorisation (measured
+        slower: off).
     fallback : str
         The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
     """
@@ -94,7 +95,7 @@ class NewtonSettings:
     armijo: float = 1e-4
     test: str = "step"
     vtol: float = 1e-2
-    lag: bool = True
+    lag: bool = False
     contraction: float = 0.9
     chords: float = 8.0
     krylov: bool = False

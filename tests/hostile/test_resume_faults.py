@@ -39,26 +39,6 @@ def _same_checkpoint(a, b):
 
 
 # -- finding 1: the controller's memory is in the checkpoint ---------------------------------------------
-def test_a_run_resumed_under_a_lagged_factorisation_is_the_same_run(tmp_path, capsys):
-    """The curtain under the defaults keeps a factorisation across steps (the step test, ``lag``): its checkpoint
-    says where it was made, and a resumed run makes it again. Resumed with another checkpoint cadence (whose
-    checkpoints the uninterrupted run did not write), the run ends where the uninterrupted one does, frame for
-    frame and bit for bit."""
-    base = ["curtain", "--grid", "10x10", "--steps", "24", "--every", "0.02"]
-    full = tmp_path / "full"
-    code, _, err = _run(base + ["--checkpoint-every", "6", "--out", full], capsys)
-    assert code == 0, err
-    memories = [load_checkpoint(full / f"curtain-checkpoint-{k:07d}.npz")["memory"] for k in (6, 12, 18)]
-    assert any("lag" in m for m in memories)  # the premise: a factorisation outlived its step at a checkpoint
-    for k in (6, 12, 18):
-        part = tmp_path / f"from-{k}"
-        code, _, err = _run(["--resume", full / f"curtain-checkpoint-{k:07d}.npz", "--checkpoint-every", "4",
-                             "--out", part], capsys)
-        assert code == 0, err
-        assert_same_series(full / "curtain.xdmf", part / "curtain.xdmf")
-        _same_checkpoint(full / "curtain-checkpoint-0000024.npz", part / "curtain-checkpoint-0000024.npz")
-
-
 def test_the_sphere_resumed_across_its_impact_is_the_same_run(tmp_path, capsys):
     """dt = 0.02 s: the impact on the ball (near t = 0.17 s) halves the step; resumed from the checkpoint
     just after it (step 10, dt 0.01 s) and from one before it (step 6)."""

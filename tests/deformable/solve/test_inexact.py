@@ -87,20 +87,33 @@ def test_a_step_far_larger_than_the_motion_does_not_make_energy():
     assert result.status == "finished", result.message
 
 
-def test_a_checkpoint_keeps_where_the_lagged_factorisation_was_made_and_refuses_one_of_another_model():
+def test_a_run_resumed_under_a_lagged_factorisation_is_the_same_run_and_a_foreign_one_is_refused():
+    """``lag=True``: the controller's memory says where the kept factorisation was made, and a stepper restored
+    from it makes it again: the run goes on bit for bit as the uninterrupted one. Memories that do not fit the
+    model are refused, naming the key."""
     model, dt = _curtain()
-    st = dm.TimeStepper(model, dt)
-    st.run(model.initial_state(), steps=6)
-    memory = st.memory()
+    newton = dict(lag=True)
+    whole = dm.TimeStepper(model, dt, newton=newton)
+    taken = {}
+
+    def keep(state):
+        if state.step == 9:
+            taken["state"], taken["memory"] = state, whole.memory()
+
+    end = whole.run(model.initial_state(), steps=24, trackers=[dm.Callback(keep)]).state
+    memory = taken["memory"]
+    assert "lag" in memory  # the premise: a factorisation outlived its step here
     lag = memory["lag"]
     assert len(lag["x"]) == 3 * model.ndof and lag["cm"] > 0
-    again = dm.TimeStepper(model, dt)
-    again.restore(memory)  # makes the factorisation again
-    assert again._scheme.newton.directions.factored == (lag["cm"], lag["cc"])
+    again = dm.TimeStepper(model, dt, newton=newton)
+    again.restore(memory)
+    resumed = again.run(model.initial_state(), steps=24 - 9, resume=taken["state"]).state  # the steps left
+    np.testing.assert_array_equal(resumed.X, end.X)
+    np.testing.assert_array_equal(resumed.V, end.V)
     for key, value, field in (("x", [0.0] * 5, "memory.lag.x"), ("damping", [[0], [1]], "memory.lag.damping"),
                               ("cm", -1.0, "memory.lag.cm")):
         with pytest.raises(InputError, match=field):
-            dm.TimeStepper(model, dt).restore(dict(memory, lag=dict(lag, **{key: value})))
+            dm.TimeStepper(model, dt, newton=newton).restore(dict(memory, lag=dict(lag, **{key: value})))
 
 
 @pytest.mark.parametrize("field, value", [("test", "residual"), ("vtol", 0.0), ("vtol", float("nan")),
