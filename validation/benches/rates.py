@@ -117,8 +117,9 @@ def _find(rows, scene, backend, grid, settings="defaults"):
 
 
 def verdicts(rows, peers=()) -> list[str]:
-    """Issue 27's targets, each a line computed from this run's rows: what was measured, its number, the target
-    and "met" or "NOT met" (or "not measured in this run" where its rows are absent)."""
+    """The speed and accuracy targets of the implicit step (docs/design.md, "Newton's convergence test"), each a
+    line computed from this run's rows: what was measured, its number, the target and "met" or "NOT met" (or
+    "not measured in this run" where its rows are absent)."""
     up, out = speedups(rows), []
 
     def line(what, value, target, ok):

@@ -222,6 +222,6 @@ def _rates(out: Path, jobs, t_end: float, peers: bool) -> None:
     if rows:
         lines = verdicts(rows, prows)
         print("\n".join(lines))
-        (out / "bench_rates.md").write_text("# Rates: issue 27's targets, computed from this run\n\n"
+        (out / "bench_rates.md").write_text("# Rates: the speed and accuracy targets, computed from this run\n\n"
                                             + "".join(f"- {line}\n" for line in lines))
         print(f"wrote {out / 'bench_rates.md'}")

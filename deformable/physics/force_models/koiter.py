@@ -1,7 +1,7 @@
 r"""Koiter's shell energy: an isotropic shell of Young's modulus E, Poisson's ratio nu and thickness h.
 
-With the strains measured in the rest metric G0 (Koiter 1966; Ciarlet 2005, *An Introduction to
-Differential Geometry with Applications to Elasticity*, section 4.1),
+With the strains measured in the rest metric G0 (Koiter 1966, Proc. KNAW B 69; Ciarlet 2005, *An Introduction to
+Differential Geometry with Applications to Elasticity*, chapter 4),
 
     eps = (G - G0) / 2 = s / 2,          kappa = B - B0 = b,
     W = sqrt(det G0) [ C_m / 2  H(eps, eps) + C_b / 2  H(kappa, kappa) ],
