@@ -6,8 +6,8 @@ scene's dt) for ``t_end`` seconds of motion from its initial state, on FD n node
 or FE n elements a side, under one of two Newton settings
 (:class:`deformable.solve.newton.NewtonSettings`):
 
-- "defaults": the settings as they ship (the step test, a factorisation lagged
-  across steps);
+- "defaults": the settings as they ship (the step test where no obstacle is,
+  the force test under contact);
 - "ce6e554": main ``ce6e554``'s, before the step test (:data:`BEFORE`: the force
   test at rtol 1e-3, a factorisation every solve, direct solves, the whole
   matrix's definite fallback).
@@ -38,7 +38,7 @@ from .scenes import SceneRow, run_scene
 
 __all__ = ["RateRow", "BEFORE", "TIGHT", "bench_rates", "format_rates"]
 
-#: main ce6e554's Newton settings (before the step test and the lagged factorisation)
+#: main ce6e554's Newton settings (before the step test)
 BEFORE = dict(test="force", lag=False, krylov=False, fallback="definite", rtol=1e-3)
 #: the reference solve: the force test at a tolerance far below any step's Newton error
 TIGHT = dict(test="force", lag=False, rtol=1e-9)
