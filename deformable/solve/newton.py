@@ -161,8 +161,13 @@ class Newton:
         """A factorisation kept across solves (``lag``), for a checkpoint: {"lag": ...}
         (:meth:`Directions.memory`), or {} when none is kept; :meth:`recall` makes it again, so that a resumed
         run is the same run bit for bit."""
-        kept = self._smooth and not self.problem.linear and self.directions.factored is not None
-        return {"lag": self.directions.memory()} if kept else {}
+        return {"lag": self.directions.memory()} if self._lagging() and self.directions.factored is not None else {}
+
+    def _lagging(self) -> bool:
+        """The next solve under the step test may start from the factorisation at hand (``lag``, after a solve
+        that ended on the step test without a fallback; a linear model keeps its own anyway)."""
+        s = self.settings
+        return s.lag and s.reuse and self._smooth and not self.problem.linear
 
     def recall(self, memory: dict) -> None:
         """Make again the factorisation :meth:`memory` describes (InputError naming the key when it does not fit
@@ -243,7 +248,7 @@ class Newton:
         steps = s.test == "step" and xtol is not None  # the step test applies (module docstring)
         report = NewtonReport(floor=D.floor, xtol=xtol if steps else None)
         D.damping = damping
-        kept = p.linear or (steps and s.lag and s.reuse and self._smooth)
+        kept = p.linear or (steps and self._lagging())
         if D.factored is not None and (D.factored != (cm, cc) or not kept):
             D.factored = None  # a factorisation outlives its solve for a linear model, or lagged under the step test
         D.here = False
