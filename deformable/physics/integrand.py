@@ -254,6 +254,7 @@ class DensityIntegrand(_Points):
         self.rest = np.stack([G0[0, 0], G0[1, 1], G0[0, 1], B0[0, 0], B0[1, 1], B0[0, 1]])
         if model.rest and "G0" not in self.params:  # the density reads the rest metric at its points (a backend
             self.params["G0"] = np.ascontiguousarray(G0)  # may give one of its own: fdmodel's node parts)
+        self.params = model.prepare(self.params)  # what the density derives once from its fixed points
         self.P = self.q.shape[1]
         # the groups the model couples that these points carry, each with its one weight
         self.groups = []

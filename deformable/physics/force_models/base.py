@@ -284,6 +284,13 @@ class EnergyModel(ForceModel):
         """d2W/d(s, b)^2, (6, 6, P), symmetric in its first two indices."""
         raise NotImplementedError
 
+    def prepare(self, params: dict) -> dict:
+        """``params`` with what the density derives from them once, at points that do not change (the backends
+        call it when they build their integrands, and the output's density field); sliced along the points like
+        the fields, each added entry (a, b, P). None by default: a shell energy's metric tensors
+        (:class:`~deformable.physics.force_models.koiter.Koiter`)."""
+        return params
+
     def bends(self, params: dict) -> bool:
         """Whether W depends on b at these parameters; False lets a backend skip the normal (a sheet with
         degenerate tangents can still be stretched). True by default; eq. (13): some xi is not zero."""
@@ -294,6 +301,7 @@ class EnergyModel(ForceModel):
         params = {f: material_at(f) for f in self.fields}
         if self.rest:
             params["G0"] = G0
+        params = self.prepare(params)
         s = np.stack([G[0, 0] - G0[0, 0], G[1, 1] - G0[1, 1], G[0, 1] - G0[0, 1]])
         b = np.stack([B[0, 0] - B0[0, 0], B[1, 1] - B0[1, 1], B[0, 1] - B0[0, 1]])
         stretching = self.density(s, np.zeros_like(b), params)

@@ -99,7 +99,7 @@ class Koiter(EnergyModel):
     @property
     def couples(self):
         """At nu = 0 no residual is coupled (on an orthogonal rest parameterisation, checked in
-        :meth:`density`); else the metric's three and the curvature's three."""
+        :meth:`prepare`); else the metric's three and the curvature's three."""
         return () if self.nu == 0 else (RESIDUALS[:3], RESIDUALS[3:])
 
     @property
@@ -108,15 +108,23 @@ class Koiter(EnergyModel):
         c = self.E / (1 - self.nu**2)
         return c * self.h, c * self.h**3 / 12
 
-    def _form(self, params):
+    def prepare(self, params):
+        """The rest metric's form K (3, 3, P) and area element (1, 1, P), once (checked at nu = 0: an orthogonal
+        parameterisation)."""
         G0 = params["G0"]
         if self.nu == 0 and np.any(np.abs(G0[0, 1]) > 1e-10 * np.maximum(np.abs(G0[0, 0]), np.abs(G0[1, 1]))):
             raise InputError(f"Koiter at nu = 0 evaluates each residual on its own (as eq. (13)), which needs an "
                              f"orthogonal rest parameterisation; here |G0_12| reaches {np.max(np.abs(G0[0, 1])):.3g}",
                              field="Koiter.nu", value=self.nu)
         K, J = form(G0, self.nu)
+        return {**params, "K": K, "J": J[None, None]}
+
+    def _form(self, params):
+        if "K" not in params:  # called without the backends' prepare (e.g. on residuals of one's own)
+            params = self.prepare(params)
         cm, cb = self.stiffnesses
-        return K, J * cm / 8, J * cb / 2  # W = cs s^T K s + cb b^T K b
+        J = params["J"][0, 0]
+        return params["K"], J * cm / 8, J * cb / 2  # W = cs s^T K s + cb b^T K b
 
     def density(self, s, b, params):
         K, cs, cb = self._form(params)
