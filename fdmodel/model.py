@@ -68,7 +68,7 @@ from deformable.scene.scene import Scene
 
 from .clamp import GhostRows
 from .energy import DiscreteEnergy, SlotMap
-from .operators import cell_tangents, node_tensors, operators, tangents, valid_rows
+from .operators import cell_tangents, centred_tensor, node_tensors, operators, tangents, valid_rows
 from .strength import StrengthMatrix
 
 __all__ = ["MEMBRANE_EIGENVALUE", "WEIGHTINGS", "FDModel"]
@@ -154,21 +154,20 @@ class FDModel:
         self.row_weight = {k: self.valid[k] * across[k] for k in self.valid}
         for k, rows in self.ghost.rows.items():
             self.row_weight[k] = np.where(rows, 0.5 * across[k], self.row_weight[k])
-        self.mu = mat.field("mu", (M, N))
-        self.gamma = mat.field("gamma", (M, N))
+        self.mu, self.gamma = (mat.field_at(name, (M, N), (self.a1, self.a2), lambda f: f) for name in ("mu", "gamma"))
         self._M = sp.diags((area * self.mu * self.area_weight).ravel(), format="csr")
         self._C = sp.diags((area * self.gamma * self.area_weight).ravel(), format="csr")
 
+        #: the Material's tensor fields where the difference terms they weigh are centred, (2, 2, M, N) each
+        #: (:func:`fdmodel.operators.centred_tensor`: second order under weights that vary)
+        self.fields = {name: centred_tensor(mat, name, sheet) for name in TENSORS}
+        self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # without bending weights K is the 5-point membrane stencil: keep its pattern that small
-        bend = getattr(mat, fm.weights[1])
         self.strength = StrengthMatrix(self.ops, self.row_weight, area,
-                                       bending=bend is not None and bool(np.any(np.asarray(bend) != 0)))
+                                       bending=bool(np.any(self.fields[fm.weights[1]] != 0)))
         # rest state: discrete G0, B0 of the rest shape, or the scene's overrides
         self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
                                               *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
-        #: the Material's tensor fields on the node grid, (2, 2, M, N) each
-        self.fields = {name: mat.tensor(name, (M, N)) for name in TENSORS}
-        self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         if self.linear:
             self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
             self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
@@ -257,11 +256,13 @@ class FDModel:
                     q[part][k] = places.get(part, zero)
         slots = {"node": (self._node_slots, node_offset), "backward": (self._backward_slots, backward_offset),
                  "cell": (self._cell_slots, None)}
-        params = {name: self.fields[name] for name in fm.fields}
+        # the weights where each part's terms stand: a node part's at their own centres, a cell part's at the cell
+        cell = {name: centred_tensor(self.scene.material, name, self.scene.sheet, at="cell") for name in fm.fields}
+        node = {name: self.fields[name] for name in fm.fields}
         # a density that reads the rest metric (EnergyModel.rest) gets a whole one at each point: the cells'
-        # own; at the nodes, the centred one (each component of a node part stands at its own centre, a
-        # component the part does not carry is not there): exact for a uniform rest metric, first order where
-        # it varies, as a node's weights are
+        # own; at the nodes, the centred one carried to the node (each component of a node part stands at its
+        # own centre, a component the part does not carry is not there): exact for a uniform rest metric, first
+        # order where it varies
         node_metric = None
         if fm.rest:
             node_metric = self.scene.rest_tensors(self.a1, self.a2, *self._centred_tensors(X_rest))[0]
@@ -271,6 +272,7 @@ class FDModel:
                 continue
             smap, rest_offset = slots[part]
             G0, B0 = self.scene.rest_tensors(self.a1, self.a2, *smap.tensors(X_rest, rest_offset))
+            params = cell if part == "cell" else node
             own = dict(params, G0=G0 if part == "cell" else node_metric) if fm.rest else params
             out.append((smap, DensityIntegrand(fm, own, area * np.stack(weights), G0, B0, smap.layout)))
         return out

@@ -32,7 +32,10 @@ import scipy.sparse as sp
 from deformable.geometry import tensors
 
 __all__ = ["forward_1d", "central2_1d", "tangent_1d", "operators", "tangents", "cell_tangents",
-           "node_derivatives", "node_tensors", "valid_rows"]
+           "node_derivatives", "node_tensors", "valid_rows", "centred_tensor"]
+
+#: the weight tensors whose 11 and 22 components weigh first differences (G11 = D1+ r . D1+ r, G22): stretching
+STRETCHING = ("eta", "alpha")
 
 
 def forward_1d(n: int, h: float) -> sp.csr_matrix:
@@ -171,3 +174,49 @@ def node_tensors(R: np.ndarray, h1: float, h2: float) -> tuple[np.ndarray, np.nd
     """G (eq. 18) and B (eq. 19) at every node from positions R (M, N, 3): two (2, 2, M, N) arrays."""
     dr, ddr = node_derivatives(R, h1, h2)
     return tensors.metric(dr), tensors.curvature(ddr, tensors.normal(dr))
+
+
+def _midpoints(w: np.ndarray, axis: int) -> np.ndarray:
+    """The mean of neighbouring nodes along ``axis``, the last one kept (it stands where no term is)."""
+    out = np.array(w, float)
+    lo, hi = [slice(None)] * w.ndim, [slice(None)] * w.ndim
+    lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+    out[tuple(lo)] = 0.5 * (w[tuple(lo)] + w[tuple(hi)])
+    return out
+
+
+def centred_tensor(material, name: str, sheet, at: str | None = None) -> np.ndarray:
+    """Weight tensor ``name`` of a Material where the difference terms it weighs are centred, (2, 2, M, N),
+    indexed by the node whose row the term is.
+
+    Stretching weights (eta, alpha): component 11 at (m + 1/2, n), where G11 = D1+ r . D1+ r stands; 22 at
+    (m, n + 1/2); 12 at the cell centre (m + 1/2, n + 1/2), where the energy's shear term stands
+    (:mod:`fdmodel.energy`). Bending weights (xi, beta): 11 and 22 at the node (D11, D22 are central), 12 at
+    the cell centre (D12+). ``at`` ("node" or "cell") puts every component at one place instead. A callable is
+    evaluated there; node values are averaged there (the mean of two or four nodes, second order), so that a
+    weight varying over the sheet keeps each term a midpoint rule and FD second order (the order of a node's
+    own weight half a cell from its term is one). A centre past the last row or column is no term's: the
+    node itself stands there.
+    """
+    M, N = sheet.nodes
+    h1, h2 = sheet.h
+    a1, a2 = sheet.coordinates()
+    s1 = a1 + np.where(np.arange(M) < M - 1, 0.5 * h1, 0.0)[:, None]
+    s2 = a2 + np.where(np.arange(N) < N - 1, 0.5 * h2, 0.0)[None, :]
+    places = {"node": ((a1, a2), lambda w: w), "d1": ((s1, a2), lambda w: _midpoints(w, 2)),
+              "d2": ((a1, s2), lambda w: _midpoints(w, 3)),
+              "cell": ((s1, s2), lambda w: _midpoints(_midpoints(w, 2), 3))}
+    if at is not None:
+        layout = ((at, at), (at, at))
+    elif name in STRETCHING:
+        layout = (("d1", "cell"), ("cell", "d2"))
+    else:
+        layout = (("node", "cell"), ("cell", "node"))
+    values, out = {}, np.empty((2, 2, M, N))
+    for i in range(2):
+        for j in range(2):
+            key = layout[i][j]
+            if key not in values:
+                values[key] = material.tensor_at(name, (M, N), *places[key])
+            out[i, j] = values[key][i, j]
+    return out

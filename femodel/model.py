@@ -167,14 +167,13 @@ class FEModel:
         self.contact_samples = CONTACT_SAMPLES
 
         self.strength = StrengthMatrix(self.ldofs, self.ndof, self.dq, self.weights)
-        self.mu = self.to_quadrature(mat.field("mu", (M, N)))
-        self.gamma = self.to_quadrature(mat.field("gamma", (M, N)))
+        self.mu, self.gamma = (mat.field_at(name, (M, N), self.points, self.to_quadrature) for name in ("mu", "gamma"))
         self._M = self.strength.density_matrix(self.mu)
         self._C = self.strength.density_matrix(self.gamma)
         self._scatter = element_vectors(self.ldofs, self.ndof)  # element load vectors (E 16) -> (ndof)
 
-        #: the Material's tensor fields at the Gauss points, (2, 2, E, nq) each
-        self.fields = {name: self.to_quadrature(mat.tensor(name, (M, N))) for name in TENSORS}
+        #: the Material's tensor fields at the Gauss points, (2, 2, E, nq) each (a callable evaluated there)
+        self.fields = {name: mat.tensor_at(name, (M, N), self.points, self.to_quadrature) for name in TENSORS}
         self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # rest state at the Gauss points: the discretised rest shape, or the scene's overrides
         if self.linear:

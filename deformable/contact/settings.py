@@ -123,4 +123,4 @@ class Contact:
 def weight_per_area(scene) -> float:
     """The heaviest weight per area of the sheet, max(mu) |g| (N/m^2), standard gravity when there is none."""
     g = sum(abs(f.g) for f in scene.forces if isinstance(f, Gravity)) or STANDARD_GRAVITY
-    return float(np.max(scene.material.mu)) * g
+    return float(np.max(scene.nodal_material().mu)) * g

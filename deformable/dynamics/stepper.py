@@ -168,7 +168,7 @@ class TimeStepper:
                     raise InputError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
                                      "stretching bound; give dt")
                 return round_down(0.5 * bound)
-            mat, h = model.scene.material, min(model.scene.sheet.h)
+            mat, h = model.scene.nodal_material(), min(model.scene.sheet.h)
             weight = np.asarray(model.scene.force_model.stretching_weight(mat))
             bound = stretching_step(float(np.min(mat.mu)), float(np.max(weight)) if weight.size else 0.0, 4 / h**2)
             if not np.isfinite(bound):

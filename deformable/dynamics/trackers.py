@@ -214,7 +214,7 @@ class DivergenceGuard(Tracker):
         diagonal = float(np.hypot(L1, L2))
         work = float(np.sum(np.linalg.norm(model.load(state.X, state.t, state.V), axis=1))) * diagonal
         # eq. (13) with G = 1.21 G0 (10 % stretch) and B = B0: sum of eta_ii (0.21 G0_ii)^2 over the area
-        eta = scene.material.tensor(scene.force_model.weights[0], scene.sheet.nodes)
+        eta = scene.nodal_material().tensor(scene.force_model.weights[0], scene.sheet.nodes)
         stretched = float(np.mean(eta[0, 0] + eta[1, 1])) * 0.21**2 * L1 * L2
         return max(self._energy(state), work, stretched)
 

@@ -86,7 +86,7 @@ class NodeFields:
         rest = model.sample(model.discretize(sheet.rest), self.a)
         G0, B0 = scene.rest_tensors(a1.ravel(), a2.ravel(), _components_first(rest.G), _components_first(rest.B))
         self.G0, self.B0 = G0, B0  # (2, 2, P)
-        mat = scene.material
+        mat = scene.nodal_material()
         self.fields = {name: mat.tensor(name, (M, N)).reshape(2, 2, -1) for name in TENSORS}
         # quads of the node grid, counter-clockwise in (a1, a2)
         idx = np.arange(M * N).reshape(M, N)

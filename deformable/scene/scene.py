@@ -107,6 +107,7 @@ class Scene:
         force_model.check(self.material)
         object.__setattr__(self, "force_model", force_model)
         self.material.check(self.sheet.nodes)
+        nodal = self.nodal_material()  # evaluates a callable weight at the nodes: an InputError naming it
         forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, PointLoad, Spring, Wind),
                           "Gravity, BodyForce, EdgeLoad, PointLoad, Spring or Wind")
         for f in forces:
@@ -128,7 +129,7 @@ class Scene:
             object.__setattr__(self, "contact", Contact())
         object.__setattr__(self, "rest_metric", _tensor_override("rest_metric", self.rest_metric))
         object.__setattr__(self, "rest_curvature", _tensor_override("rest_curvature", self.rest_curvature))
-        free = force_model.free_modes(self.material)
+        free = force_model.free_modes(nodal)
         if free:
             warnings.warn(f"scene {self.name!r}: the {force_model.name} model leaves {' and '.join(free)} free: "
                           "those deformations cost no energy, a compressed sheet shears in its own plane and a "
@@ -166,6 +167,10 @@ class Scene:
                                  "surface with independent tangents r_1, r_2 there", field="Sheet.rest")
         return out[0], out[1]
 
+    def nodal_material(self) -> Material:
+        """The material with its callables evaluated at the sheet's nodes (:meth:`Material.nodal`)."""
+        return self.material.nodal(self.sheet)
+
     def with_nodes(self, nodes: tuple[int, int]) -> Scene:
-        """The same scene on another node grid (per-node material arrays must be scalars)."""
+        """The same scene on another node grid (per-node material arrays must be scalars or callables)."""
         return replace(self, sheet=self.sheet.with_nodes(nodes))
