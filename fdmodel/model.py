@@ -54,7 +54,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.backends.contract import Sample
+from deformable.backends.contract import EdgeRule, Sample
 from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
@@ -425,16 +425,26 @@ class FDModel:
         W.eliminate_zeros()
         return W
 
-    def edge_load(self, force, t: float) -> np.ndarray:
-        """An EdgeLoad's traction q times each edge node's share of the edge (half at its ends), (M N, 3) (N)."""
+    def edge_rule(self, name: str) -> EdgeRule:
+        """The edge's nodes with their shares of its length (the trapezoidal rule: half at its ends); r_across the
+        difference of the edge row and the next one in, along a_i: the tangent of the last segment, which FD's
+        bending energy is conjugate to (its B11 = n . D11 r is the difference of two segments' angles over h, so an
+        edge moment on the last segment gives every segment the same curvature, as the continuum does; the
+        one-sided second-order tangent (3 r[0] - 4 r[1] + r[2]) / 2h, tried first, spreads the moment over three
+        rows and Newton stalled past a half turn of a rolled strip)."""
         sheet = self.scene.sheet
-        edge = sheet.edge(force.edge)
-        idx = edge.index
+        edge = sheet.edge(name)
+        nodes = np.arange(self.ndof).reshape(self.M, self.N)
         share = np.full(sheet.nodes[edge.along], self.spacing[edge.along])
         share[[0, -1]] *= 0.5
-        F = np.zeros((self.M, self.N, 3))
-        F[idx] = force.traction(self.a1[idx], self.a2[idx], t) * share[:, None]
-        return F.reshape(self.ndof, 3)
+        rows = [nodes.take(k if edge.side == 0 else -1 - k, axis=edge.axis) for k in range(2)]  # the edge, then in
+        P = rows[0].size
+        sign = 1.0 if edge.side == 0 else -1.0  # forward into the sheet from a1 = 0, backward from a1 = L1
+        c = sign * np.array([-1.0, 1.0]) / self.spacing[edge.axis]
+        at = sp.csr_matrix((np.ones(P), (np.arange(P), rows[0])), shape=(P, self.ndof))
+        across = sp.csr_matrix((np.repeat(c[None], P, 0).ravel(), (np.repeat(np.arange(P), 2),
+                                np.stack(rows, 1).ravel())), shape=(P, self.ndof))
+        return EdgeRule(self.a1[edge.index], self.a2[edge.index], share, at, across)
 
     def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Indices of the held degrees of freedom of x, y and z."""

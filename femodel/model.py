@@ -88,7 +88,7 @@ import skfem
 from skfem.quadrature import get_quadrature_line
 
 from deformable.algebra.elements import element_vectors
-from deformable.backends.contract import Sample
+from deformable.backends.contract import EdgeRule, Sample
 from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
@@ -417,22 +417,26 @@ class FEModel:
         W.eliminate_zeros()
         return W
 
-    def edge_load(self, force, t: float) -> np.ndarray:
-        """An EdgeLoad's traction integrated against the basis on the edge's element sides (4-point Gauss), (ndof, 3)."""
+    def edge_rule(self, name: str) -> EdgeRule:
+        """The 4-point Gauss rule on each element side along the edge, with the basis and its derivative across."""
         x, w = get_quadrature_line(2 * GAUSS_POINTS - 1)
         x = x[0]
-        edge = self.scene.sheet.edge(force.edge)
+        edge = self.scene.sheet.edge(name)
         end = 0 if edge.side == 0 else self.scene.sheet.nodes[edge.axis] - 2  # the elements along the edge
         e = np.flatnonzero(self.elem_ij[:, edge.axis] == end)
         ref = [x, x]
         ref[edge.axis] = np.full_like(x, 0.0 if edge.side == 0 else 1.0)
         s, tt = ref
-        a1 = (self.elem_ij[e, 0, None] + s[None]) * self.h1
-        a2 = (self.elem_ij[e, 1, None] + tt[None]) * self.h2
-        q = force.traction(a1, a2, t) * (w * self.spacing[edge.along])[None, :, None]  # (Ee, nq, 3)
-        F = np.zeros((self.ndof, 3))
-        np.add.at(F, self.ldofs[e], np.einsum("eqc,lq->elc", q, basis(s, tt, (self.h1, self.h2))))
-        return F
+        rows, cols = np.repeat(np.arange(e.size * x.size), 16), np.repeat(self.ldofs[e], x.size, axis=0).ravel()
+
+        def matrix(d):  # (P, ndof), P = elements x points, element-major
+            v = np.broadcast_to(basis(s, tt, self.spacing, d).T[None], (e.size, x.size, 16)).ravel()
+            return sp.csr_matrix((v, (rows, cols)), shape=(e.size * x.size, self.ndof))
+
+        a1 = ((self.elem_ij[e, 0, None] + s[None]) * self.h1).ravel()
+        a2 = ((self.elem_ij[e, 1, None] + tt[None]) * self.h2).ravel()
+        return EdgeRule(a1, a2, np.tile(w * self.spacing[edge.along], e.size), matrix((0, 0)),
+                        matrix((1, 0) if edge.axis == 0 else (0, 1)))
 
     def energy(self, X: np.ndarray) -> Energy:
         """Elastic energy (J): eq. (13) by the Gauss rule (tpbf87, variational); R^T K R / 2 split alpha/beta (frozen)."""

@@ -41,6 +41,20 @@ class Sample:
     B: np.ndarray
 
 
+@dataclass(frozen=True)
+class EdgeRule:
+    """A backend's quadrature along one edge of the sheet: P points, their parameter coordinates a1, a2 (P,), their
+    weights (P,) (parameter length, scene units: int_edge f ds = sum w f), and two fixed sparse (P, ndof)
+    matrices: ``at @ X`` is r at the points, ``across @ X`` the derivative of r across the edge (r_1 on the left
+    and right edges, r_2 on the bottom and top), along the parameter's own direction."""
+
+    a1: np.ndarray
+    a2: np.ndarray
+    weights: np.ndarray
+    at: sp.csr_matrix
+    across: sp.csr_matrix
+
+
 @runtime_checkable
 class Backend(Protocol):
     """What a discretisation offers: geometry, the system (21), the energy (13) and its derivatives.
@@ -110,7 +124,7 @@ class Backend(Protocol):
     def at_points(self, X: np.ndarray, d: tuple[int, int] = (0, 0)) -> np.ndarray: ...
     def density_matrix(self, c: np.ndarray) -> sp.csr_matrix: ...
     def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]: ...
-    def edge_load(self, force, t: float) -> np.ndarray: ...
+    def edge_rule(self, name: str) -> EdgeRule: ...
 
     # -- the hook of deformable.contact: r at parameter points a (P, 2) as a fixed sparse matrix, r(a) = W @ X
     def point_matrix(self, a) -> sp.csr_matrix: ...

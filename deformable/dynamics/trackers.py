@@ -244,7 +244,8 @@ class DivergenceGuard(Tracker):
             for a, dofs in enumerate(model.fixed_dofs()):
                 self._held[np.asarray(dofs, dtype=np.int64), a] = True
             loads = getattr(model, "loads", None)
-            springs = float(loads.spring_energy(state.X, state.t)) if loads is not None and loads.springs else 0.0
+            springs = float(loads.potential_energy(state.X, state.t)) if loads is not None and loads.potentials \
+                else 0.0
             self._budget = self._energy(state) + springs  # the energy at the start; the work done is added
             self._floor = 1e-12 * (self._scale if self.energy_growth is not None else self.energy_scale(state))
             self._last = (state.X, state.V, state.t, np.abs(model.load(state.X, state.t, state.V)))

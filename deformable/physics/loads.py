@@ -13,16 +13,20 @@ these backend hooks (the backend contract, :mod:`deformable.backends`):
 - ``density_matrix(c)``: ``integral c phi_k phi_l`` (ndof, ndof) of a scalar
   field at the points, on one pattern for every c;
 - ``point_dofs(a, what)``: the degrees of freedom and weights of ``r(a) = sum_k w_k X_k``;
-- ``edge_load(force, t)``: an :class:`~deformable.physics.forces.EdgeLoad` integrated
-  along its edge, (ndof, 3).
+- ``edge_rule(name)``: the backend's quadrature along an edge
+  (:class:`~deformable.backends.contract.EdgeRule`: points, weights, r and its
+  derivative across the edge as fixed sparse matrices), which integrates edge
+  tractions (``at^T (w q)``) and edge moments.
 
 The forces (:mod:`deformable.physics.forces`):
 
 - applied, independent of the state: body densities (gravity ``mu g``),
   edge tractions, point loads;
-- springs (the paper's "coils", section 5): conservative, with an energy, its
+- springs (the paper's "coils", section 5) and edge moments
+  (:mod:`deformable.physics.moments`): conservative, with an energy, its
   gradient and Hessian; the implicit schemes and the equilibrium treat them as
-  part of the potential;
+  part of the potential (:meth:`Loads.potential_energy` and its derivatives;
+  ``factor`` scales the moments with ``equilibrium``'s load steps);
 - wind: ``c ((w - v) . n) |(w - v) . n| n`` per unit current area, depending
   on positions (n, area) and velocities (v); its Jacobian in v, the damping
   ``D = integral 2 c |u . n| |r_1 x r_2| n n^T phi_k phi_l``, lets the implicit
@@ -40,6 +44,7 @@ import scipy.sparse as sp
 
 from ..algebra.patterns import BlockPattern, FixedPattern
 from ..geometry.tensors import frame
+from .moments import EdgeMoments
 
 __all__ = ["Loads"]
 
@@ -58,21 +63,27 @@ class Loads:
 
     Attributes
     ----------
-    springs, winds : tuples of the scene's Spring and Wind forces
+    springs, moments, winds : tuples of the scene's Spring, EdgeMoment and Wind forces
+    potentials : bool
+        Springs or moments: a potential that depends on the state.
     conservative : bool
         No wind: the external force is the gradient of a potential.
     linear : bool
-        Conservative with linear springs only (rest length 0): the Hessian of
-        the potential does not depend on the state.
+        Conservative with linear springs only (rest length 0) and no moment: the
+        Hessian of the potential does not depend on the state.
     """
 
     def __init__(self, model):
         self.model, self.n = model, model.ndof
         forces = model.scene.forces
         self.springs = tuple(f for f in forces if f.kind == "spring")
+        self.moments = tuple(f for f in forces if f.kind == "moment")
         self.winds = tuple(f for f in forces if f.kind == "surface")
+        self.potentials = bool(self.springs or self.moments)
         self.conservative = not self.winds
-        self.linear = self.conservative and all(s.rest_length == 0 for s in self.springs)
+        self.linear = self.conservative and not self.moments and all(s.rest_length == 0 for s in self.springs)
+        self._rules = {}
+        self._moments = EdgeMoments(model, self.moments) if self.moments else None
         self._points = [(f, *model.point_dofs(f.at, "PointLoad.at")) for f in forces if f.kind == "point"]
         self._springs = [(s, *model.point_dofs(s.at, "Spring.at")) for s in self.springs]
         self._spring_pattern = self._spring_hessian_pattern() if self.springs else None
@@ -87,19 +98,43 @@ class Loads:
             if force.kind == "body":
                 F += m.integrate(force.density(*m.points, t, m.mu))
             elif force.kind == "edge":
-                F += m.edge_load(force, t)
+                rule = self.edge_rule(force.edge)
+                F += rule.at.T @ (rule.weights[:, None] * force.traction(rule.a1, rule.a2, t))
         for force, dofs, w in self._points:
             F[dofs] += w[:, None] * force.force(t)[None]
         return F
 
+    def edge_rule(self, name: str):
+        """The model's :class:`~deformable.backends.contract.EdgeRule` of an edge (built once)."""
+        if name not in self._rules:
+            self._rules[name] = self.model.edge_rule(name)
+        return self._rules[name]
+
     def total(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21): applied loads, springs at X and wind at (X, V) (V None: at rest), (ndof, 3) (N)."""
+        """F of eq. (21): applied loads, springs and moments at X and wind at (X, V) (V None: at rest), (ndof, 3)
+        (N)."""
         F = self.applied(t)
-        if self.springs:
-            F -= self.spring_gradient(X, t)
+        if self.potentials:
+            F -= self.potential_gradient(X, t)
         if self.winds:
             F += self.wind_force(X, V, t)
         return F
+
+    # -- the potential of springs and moments -------------------------------------
+    def potential_energy(self, X: np.ndarray, t: float, factor: float = 1.0) -> float:
+        """The springs' energy and the moments' potential (J); ``factor`` scales the moments."""
+        e = self.spring_energy(X, t) if self.springs else 0.0
+        return e + self._moments.energy(X, t, factor) if self._moments is not None else e
+
+    def potential_gradient(self, X: np.ndarray, t: float, factor: float = 1.0) -> np.ndarray:
+        """The gradient of :meth:`potential_energy`, (ndof, 3) (N): minus the springs' and moments' force."""
+        G = self.spring_gradient(X, t) if self.springs else np.zeros((self.n, 3))
+        return G + self._moments.gradient(X, t, factor) if self._moments is not None else G
+
+    def potential_hessians(self, X: np.ndarray, t: float, factor: float = 1.0) -> list:
+        """The Hessians of :meth:`potential_energy`, each (3 ndof, 3 ndof) blocked on its fixed pattern."""
+        out = [self.spring_hessian(X, t)] if self.springs else []
+        return out + [self._moments.hessian(X, t, factor)] if self._moments is not None else out
 
     # -- springs -----------------------------------------------------------------
     def _ends(self, X):

@@ -225,6 +225,7 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
 
     for k in range(1, int(load_steps) + 1):
         F = F_full * (k / load_steps)
+        fl.factor = k / load_steps  # the edge moments, a potential, in the same increments
 
         def phi(x, F=F):
             return fl.energy(x) - F @ x

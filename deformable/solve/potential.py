@@ -52,7 +52,9 @@ class FlatEnergy:
     loads : deformable.physics.loads.Loads
         The model's external forces.
     t : float
-        The time of the springs' anchors in :meth:`energy`, :meth:`gradient`, :meth:`hessian` (s).
+        The time of the springs' anchors and the moments in :meth:`energy`, :meth:`gradient`, :meth:`hessian` (s).
+    factor : float
+        The load factor of the state-dependent loads (the edge moments; 1 but in ``equilibrium``'s load steps).
     length : float
         The grid's shortest spacing (scene units, m in the shipped scenes): an iterate that moved further than
         this is far from where a kept factorisation was made (:class:`deformable.solve.newton.Newton`).
@@ -87,20 +89,22 @@ class FlatEnergy:
         self.filter = self.contact
         self.linear = bool(model.linear and self.loads.linear and self.contact is None)
         self.t = 0.0
+        self.factor = 1.0
 
     def energy(self, x) -> float:
-        """Elastic energy (13) plus the springs' and the contact's (J); +inf where a contact point is not outside."""
+        """Elastic energy (13) plus the springs', moments' and the contact's (J); +inf where a contact point is not
+        outside."""
         X = unflat(x, self.n)
         e = self.model.energy(X).total
         if self.contact is not None:
             e += self.contact.energy(x)
-        return e + self.loads.spring_energy(X, self.t) if self.loads.springs else e
+        return e + self.loads.potential_energy(X, self.t, self.factor) if self.loads.potentials else e
 
     def gradient(self, x, contact: bool = True) -> np.ndarray:
         """The gradient of :meth:`energy` (N); ``contact=False`` leaves the contact's out."""
         X = unflat(x, self.n)
         g = self.model.energy_gradient(X)
-        g = flat(g + self.loads.spring_gradient(X, self.t) if self.loads.springs else g)
+        g = flat(g + self.loads.potential_gradient(X, self.t, self.factor) if self.loads.potentials else g)
         return g + self.contact.gradient(x) if contact and self.contact is not None else g
 
     def hessian(self, x, kind: str = "newton") -> sp.csr_matrix:
@@ -111,8 +115,8 @@ class FlatEnergy:
         """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians
         at x (the contact's of ``kind``), and ``damping``."""
         out = []
-        if self.loads.springs:
-            out.append(self.loads.spring_hessian(unflat(x, self.n), self.t))
+        if self.loads.potentials:
+            out += self.loads.potential_hessians(unflat(x, self.n), self.t, self.factor)
         if self.contact is not None:
             out.append(self.contact.hessian(x, kind))
         if damping is not None:
