@@ -53,7 +53,7 @@ for name, model in (("FD", FDModel(scene, weighting="control-area")), ("FE", FEM
     error = np.max(np.abs(tip - exact))
     print(f"{name}: equilibrium in {len(history) - 1} Newton iterations (residual {history[-1]:.1e} N, energy "
           f"{model.energy(X).total:.1e} J); tip at ({tip[0]:.4f}, {tip[2]:.4f}) m, error {error:.2e} m")
-print("FD's clamp holds two node rows, which shifts the clamped line by h (a first-order tip error); FE's holds "
+print("FD's clamp holds the edge row and a ghost row outside it by the clamp's slope (second order); FE's holds "
       "every degree of freedom of the edge nodes (docs/design.md, study 'variational')")
 
 OUT.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,7 @@
 r"""The reflection clamp of the FD grid: a ghost row outside every clamped edge.
 
 A :class:`deformable.Clamp` holds an edge and its tangent plane. The paper
-defines no clamp; the two-row clamp (hold the edge row and the next one)
+defines no clamp; a two-row clamp (hold the edge row and the next one)
 fixes the position of the row at a1 = h instead of the slope at a1 = 0, which
 moves the clamped line by O(h): first order (docs/design.md, "Findings").
 
@@ -32,10 +32,13 @@ fall on the node itself and the first free row), so nothing changes in
 along a1 (the trapezoidal rule, and, with it, exactly the classical 13-point plate stencil with
 the reflected ghost in the row next to the edge: (7 w1 - 4 w2 + w3) / h^4 for a clamped beam).
 
-The paper's strength matrix K(r) (eq. 20) acts alike on x, y and z with a constant pattern and
-has no place for the affine term ``t`` (it would be a force outside ``K(r) R``, which the
-semi-implicit step of eq. (24)-(26) does not carry): the tpbf87 and frozen models keep the
-two-row clamp.
+The paper's strength matrix K(r) (eq. 20) acts alike on x, y and z with a constant pattern and has
+no place for the affine term ``t`` itself: under tpbf87 and frozen K(r) is built on the ghost's
+operators and the affine part becomes a force, ``f = h1 h2 sum_k D_k^T diag(w_k beta_kk) c_k`` over the
+ghost rows' D11, D22 (``FDModel._clamp_force``), which :meth:`FDModel.load` subtracts, so that the
+semi-implicit step K(r_t) r_{t+dt} = F of eq. (24)-(26) holds the slope too (the frozen energy is
+``R^T K R / 2 + f . R + const``). The two-row clamp, held before, gave the frozen clamped plate's
+centre 6.2 % off at 65 x 65 nodes, order 1.00; the ghost rows give 0.21 %, order 2.
 """
 
 from __future__ import annotations

@@ -29,11 +29,12 @@ control-volume scheme: second order at free edges. Weighting only M, C and F
 is consistent in 1-D but not in 2-D, where the fluxes along an edge row would
 keep their full weight against a halved load.
 
-Clamps. Under an energy density a clamp holds the edge row and eliminates
-a ghost row outside it by the clamp's slope (:mod:`fdmodel.clamp`): second
-order. Under tpbf87 and frozen it holds the edge row and the next one (the
-clamped line moves by h: first order), because K(r) R = F has no place for the
-ghost's affine term.
+Clamps. A clamp holds the edge row and eliminates a ghost row outside it by
+the clamp's slope (:mod:`fdmodel.clamp`): second order. Under an energy
+density the slots carry the ghost's affine part; under tpbf87 and frozen K(r)
+is built on the ghost's operators and the affine part is a force f
+(:meth:`FDModel._clamp_force`): the frozen energy's gradient is K R + f and
+:meth:`FDModel.load` carries -f, so the semi-implicit K(r_t) r = F holds it.
 
 G and B. For tpbf87 and frozen, :meth:`FDModel.tensors` gives the paper's
 eq. (18)-(19) at the nodes (what alpha, beta and K use). For an energy density
@@ -140,9 +141,9 @@ class FDModel:
         self.ops = operators(M, N, self.h1, self.h2)
         self._tangents = tangents(M, N, self.h1, self.h2)
         self.valid = valid_rows(M, N)
-        # the reflection clamp (ghost rows) where the force is an energy gradient; K(r) keeps two held rows
+        # the reflection clamp (ghost rows), for every force model: under K(r) its affine part is a force (_clamp_force)
         clamped = [e for c in scene.constraints if isinstance(c, Clamp) for e in c.edges]
-        self.ghost = GhostRows(sheet, clamped if self.density else ())
+        self.ghost = GhostRows(sheet, clamped)
         # node control-area weights: 1 inside, 1/2 on edges, 1/4 at corners
         w1, w2 = np.ones(M), np.ones(N)
         if weighting == "control-area":
@@ -163,19 +164,24 @@ class FDModel:
         self.fields = {name: centred_tensor(mat, name, sheet) for name in TENSORS}
         self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # without bending weights K is the 5-point membrane stencil: keep its pattern that small
-        self.strength = StrengthMatrix(self.ops, self.row_weight, area,
+        self._ghost_ops = self.ghost.operators(self.ops, self._tangents)[0]
+        self.strength = StrengthMatrix(self._ghost_ops, self.row_weight, area,
                                        bending=bool(np.any(self.fields[fm.weights[1]] != 0)))
+        #: the clamp's tangents in the ghost rows' affine part (D11, D22 slots), (2, M N, 3); None without a clamp
+        self._ghost_offset = self.ghost.offset(sheet.initial, ("D11", "D22", "T1", "T2"))[:2] if self.ghost else None
         # rest state: discrete G0, B0 of the rest shape, or the scene's overrides
         self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
                                               *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
         if self.linear:
             self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
             self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
-            self._energy = QuadraticEnergy(self._K_const, *self.strength.parts(self.alpha_fixed, self.beta_fixed))
+            f, c = self._clamp_force(self.beta_fixed), self._clamp_constant(self.beta_fixed)
+            self._energy = QuadraticEnergy(self._K_const, *self.strength.parts(self.alpha_fixed, self.beta_fixed),
+                                           linear=f, constant=c)
         else:
             self._energy = self._discrete_energy(area)
         self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
-                          clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge, depth=1 if self.ghost else 2)))
+                          clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge)))
         self.loads = Loads(self)
 
     def _discrete_energy(self, area: float) -> DiscreteEnergy:
@@ -348,6 +354,29 @@ class FDModel:
         self.force_model.require_strength_matrix()
         return self.strength.matrix(*self.alpha_beta(X))
 
+    def _clamp_force(self, beta) -> np.ndarray | None:
+        """The ghost rows' affine part under K(r): ``f = h1 h2 sum_k D_k^T diag(w_k beta_kk) c_k`` over the slots
+        D11, D22 (c the clamp's offset, :meth:`GhostRows.offset`), (M N, 3) (N); None without a clamp or under an
+        energy density (whose slots carry the offset themselves).
+
+        The bending rows of K(r) R + f are those of the clamped energy sum w beta (D_g r + c) . (D_g r + c) / 2:
+        the frozen model's gradient is K R + f, and :meth:`load` carries -f, so that the semi-implicit step of
+        eq. (24), K(r_t) r_{t+dt} = F, holds the clamp's slope at second order (docs/design.md, "Clamps").
+        """
+        if self.density or self._ghost_offset is None:
+            return None
+        area, rw = self.h1 * self.h2, self.row_weight
+        return sum(area * (self._ghost_ops[k].T @ ((rw[k] * beta[i, i]).ravel()[:, None] * self._ghost_offset[i]))
+                   for i, k in enumerate(("D11", "D22")))
+
+    def _clamp_constant(self, beta) -> float:
+        """The clamped energy's constant ``sum w beta c . c / 2`` (J), 0 without a clamp (:meth:`_clamp_force`)."""
+        if self.density or self._ghost_offset is None:
+            return 0.0
+        area, rw = self.h1 * self.h2, self.row_weight
+        return float(sum(0.5 * area * np.sum((rw[k] * beta[i, i]).ravel()[:, None] * self._ghost_offset[i] ** 2)
+                         for i, k in enumerate(("D11", "D22"))))
+
     def internal_force(self, X: np.ndarray) -> np.ndarray:
         """The internal force (N), (M N, 3): h1 h2 e of eq. (16) (K(r) R), or the energy gradient (variational)."""
         if not self.force_model.has_strength_matrix:
@@ -386,9 +415,12 @@ class FDModel:
         paper's pointwise value otherwise), edge tractions q times the node's
         share of the edge (half at the edge's end nodes), point loads and
         springs spread bilinearly over the corners of their cell, wind at the
-        nodes with the normal of eq. (19) and the velocities V (None: at rest).
+        nodes with the normal of eq. (19) and the velocities V (None: at rest); under K(r) (tpbf87, frozen) and a
+        clamp, minus the ghost rows' affine force (:meth:`_clamp_force`, with beta at X).
         """
-        return self.loads.total(X, t, V)
+        F = self.loads.total(X, t, V)
+        f = self._clamp_force(self.alpha_beta(X)[1]) if self._ghost_offset is not None and not self.density else None
+        return F if f is None else F - f
 
     # -- the hooks of deformable.physics.loads ---------------------------------------
     def integrate(self, density: np.ndarray) -> np.ndarray:

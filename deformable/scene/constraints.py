@@ -13,8 +13,8 @@ backends:
 :class:`Pin` holds positions (optionally moving them rigidly in time),
 :class:`Slide` lets nodes move along one axis only (the curtain rail),
 :class:`Clamp` holds an edge and its tangent plane, not the in-plane stretch
-across it (FD: the edge row, with a ghost row outside it, or the edge row and
-the next one in; FE: values, the derivative along the edge, and the normal
+across it (FD: the edge row, with a ghost row outside it that holds the slope;
+FE: values, the derivative along the edge, and the normal
 component of the derivatives across it).
 """
 
@@ -199,7 +199,7 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
         r is known along it; FD: nothing).
     clamp_dofs : callable edge name -> int array, or a tuple of three (x, y, z)
         What a Clamp of the edge holds, for every coordinate or per coordinate (FD: the edge row, with
-        the ghost row of the reflection clamp, or the edge row and the next one; FE: values and the
+        the ghost row of the reflection clamp; FE: values and the
         derivative along the edge, and the normal component of the derivatives across it).
     """
     sheet = scene.sheet

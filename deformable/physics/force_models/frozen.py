@@ -31,16 +31,26 @@ class QuadraticEnergy:
         The strength matrix (integrated rows), symmetric.
     K_alpha, K_beta : sparse (ndof, ndof)
         Its membrane and bending parts, for the split of :meth:`energy`.
+    linear : array (ndof, 3), optional
+        An affine term f of the bending energy, ``R^T K R / 2 + f . R + constant`` (FD's clamp: the ghost rows'
+        slope, :meth:`fdmodel.FDModel._clamp_force`); None: none.
+    constant : float
+        The bending energy's constant (J).
     """
 
-    def __init__(self, K: sp.csr_matrix, K_alpha: sp.csr_matrix, K_beta: sp.csr_matrix):
+    def __init__(self, K: sp.csr_matrix, K_alpha: sp.csr_matrix, K_beta: sp.csr_matrix, linear=None,
+                 constant: float = 0.0):
         self.K, self.K_alpha, self.K_beta = K, K_alpha, K_beta
+        self.linear, self.constant = linear, float(constant)
 
     def energy(self, X: np.ndarray) -> Energy:
-        return Energy(0.5 * float(np.sum(X * (self.K_alpha @ X))), 0.5 * float(np.sum(X * (self.K_beta @ X))))
+        bending = 0.5 * float(np.sum(X * (self.K_beta @ X)))
+        if self.linear is not None:
+            bending += float(np.sum(self.linear * X)) + self.constant
+        return Energy(0.5 * float(np.sum(X * (self.K_alpha @ X))), bending)
 
     def gradient(self, X: np.ndarray) -> np.ndarray:
-        return self.K @ X
+        return self.K @ X if self.linear is None else self.K @ X + self.linear
 
     def hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
         """The coordinate-blocked Hessian diag(K, K, K) (exact, whatever ``kind``)."""

@@ -3,7 +3,7 @@
 Every test takes the ``backend`` fixture ("fd", "fe") and builds its models
 through :func:`validation.harness.backends.make_model`: whatever the contract
 promises, FDModel and FEModel keep alike. Facts that belong to one backend
-only (FE derivative degrees of freedom, the FD two-row clamp, exact FD
+only (FE derivative degrees of freedom, the FD ghost-row clamp, exact FD
 eigenvalues) are in tests/fdmodel and tests/femodel.
 """
 
