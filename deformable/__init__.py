@@ -80,14 +80,14 @@ from .physics.energy import Energy
 from .physics.force_models import EnergyModel, ForceModel, Koiter, StrengthModel
 from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Sinusoidal, Spring, Wind
 from .physics.material import Material
-from .scene.constraints import Clamp, Pin, Slide, select
+from .scene.constraints import Clamp, Pin, Slide, Symmetry, select
 from .scene.scene import Scene
 from .solve.equilibrium import equilibrium
 
 __version__ = "0.1.0"
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
-    "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Gravity",
+    "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Gravity",
     "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "Koiter",
     "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface", "DivergenceError", "StalledError", "RunResult", "State",
     "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric", "normal", "Callback", "DivergenceGuard",

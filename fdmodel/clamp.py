@@ -130,3 +130,22 @@ class GhostRows:
             out[slots.index(d), nodes] += sign * 2.0 * t / h
             out[slots.index(tn), nodes] += t
         return out
+
+    @staticmethod
+    def force(ops: dict, row_weight: dict, area: float, beta: np.ndarray, offset: np.ndarray) -> np.ndarray:
+        """The affine part of the ghost rows under K(r) as a force: ``f = h1 h2 sum_k D_k^T diag(w_k beta_kk) c_k``
+        over the slots D11, D22 (``ops`` the ghost's operators, ``offset`` (2, M N, 3) their :meth:`offset`),
+        (M N, 3) (N).
+
+        The bending rows of K(r) R + f are those of the clamped energy sum w beta (D_g r + c) . (D_g r + c) / 2:
+        the frozen model's gradient is K R + f, and ``FDModel.load`` carries -f, so that the semi-implicit step
+        of eq. (24), K(r_t) r_{t+dt} = F, holds the clamp's slope at second order (module docstring).
+        """
+        return sum(area * (ops[k].T @ ((row_weight[k] * beta[i, i]).ravel()[:, None] * offset[i]))
+                   for i, k in enumerate(("D11", "D22")))
+
+    @staticmethod
+    def constant(row_weight: dict, area: float, beta: np.ndarray, offset: np.ndarray) -> float:
+        """The clamped energy's constant ``h1 h2 sum w beta c . c / 2`` (J) (:meth:`force`)."""
+        return float(sum(0.5 * area * np.sum((row_weight[k] * beta[i, i]).ravel()[:, None] * offset[i] ** 2)
+                         for i, k in enumerate(("D11", "D22"))))

@@ -175,7 +175,8 @@ class FDModel:
         if self.linear:
             self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
             self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
-            f, c = self._clamp_force(self.beta_fixed), self._clamp_constant(self.beta_fixed)
+            f = self._clamp_force(self.beta_fixed)
+            c = 0.0 if f is None else self.ghost.constant(self.row_weight, area, self.beta_fixed, self._ghost_offset)
             self._energy = QuadraticEnergy(self._K_const, *self.strength.parts(self.alpha_fixed, self.beta_fixed),
                                            linear=f, constant=c)
         else:
@@ -355,27 +356,11 @@ class FDModel:
         return self.strength.matrix(*self.alpha_beta(X))
 
     def _clamp_force(self, beta) -> np.ndarray | None:
-        """The ghost rows' affine part under K(r): ``f = h1 h2 sum_k D_k^T diag(w_k beta_kk) c_k`` over the slots
-        D11, D22 (c the clamp's offset, :meth:`GhostRows.offset`), (M N, 3) (N); None without a clamp or under an
-        energy density (whose slots carry the offset themselves).
-
-        The bending rows of K(r) R + f are those of the clamped energy sum w beta (D_g r + c) . (D_g r + c) / 2:
-        the frozen model's gradient is K R + f, and :meth:`load` carries -f, so that the semi-implicit step of
-        eq. (24), K(r_t) r_{t+dt} = F, holds the clamp's slope at second order (docs/design.md, "Clamps").
-        """
+        """The ghost rows' affine force under K(r) (:meth:`GhostRows.force`), (M N, 3) (N); None without a clamp
+        or under an energy density (whose slots carry the offset themselves)."""
         if self.density or self._ghost_offset is None:
             return None
-        area, rw = self.h1 * self.h2, self.row_weight
-        return sum(area * (self._ghost_ops[k].T @ ((rw[k] * beta[i, i]).ravel()[:, None] * self._ghost_offset[i]))
-                   for i, k in enumerate(("D11", "D22")))
-
-    def _clamp_constant(self, beta) -> float:
-        """The clamped energy's constant ``sum w beta c . c / 2`` (J), 0 without a clamp (:meth:`_clamp_force`)."""
-        if self.density or self._ghost_offset is None:
-            return 0.0
-        area, rw = self.h1 * self.h2, self.row_weight
-        return float(sum(0.5 * area * np.sum((rw[k] * beta[i, i]).ravel()[:, None] * self._ghost_offset[i] ** 2)
-                         for i, k in enumerate(("D11", "D22"))))
+        return self.ghost.force(self._ghost_ops, self.row_weight, self.h1 * self.h2, beta, self._ghost_offset)
 
     def internal_force(self, X: np.ndarray) -> np.ndarray:
         """The internal force (N), (M N, 3): h1 h2 e of eq. (16) (K(r) R), or the energy gradient (variational)."""

@@ -195,7 +195,7 @@ class FEModel:
                 integrand = Integrand(self.eta * w, self.xi * w, self.G0, self.B0, FE_SLOTS)
             self._energy = DiscreteEnergy(self.ldofs, self.ndof, self.dq, integrand)
         self._held = hold(scene, self.ndof, node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs,
-                          clamp_dofs=self._clamp_dofs)
+                          clamp_dofs=self._clamp_dofs, symmetry_dofs=self._symmetry_dofs)
         self.loads = Loads(self)
         log.debug("FEModel %d x %d elements, %d dofs, nnz %d, built in %.3f s",
                   M - 1, N - 1, self.ndof, self.strength.elements.nnz, time.perf_counter() - start)
@@ -458,6 +458,14 @@ class FEModel:
     def _edge_tangent_dofs(self, name: str) -> np.ndarray:
         """The derivative along the edge at its nodes: known once r is known along the whole edge."""
         return self._node_dofs(self.scene.sheet.edge_nodes(name), 1 + self.scene.sheet.edge(name).along)
+
+    def _symmetry_dofs(self, name: str, normal: int) -> tuple:
+        """What a Symmetry of the edge holds, (x, y, z): the value and the derivative along the edge in the
+        normal's coordinate; the derivative across the edge and the mixed one in the other two."""
+        mask, edge = self.scene.sheet.edge_nodes(name), self.scene.sheet.edge(name)
+        on_plane = np.concatenate([self._node_dofs(mask, 0), self._node_dofs(mask, 1 + edge.along)])
+        square = np.concatenate([self._node_dofs(mask, 1 + edge.axis), self._node_dofs(mask, 3)])
+        return tuple(on_plane if k == normal else square for k in range(3))
 
     def _clamp_dofs(self, name: str):
         """What a clamp of the edge holds (module docstring), per coordinate: (x, y, z) index arrays.

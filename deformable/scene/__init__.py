@@ -5,8 +5,8 @@ freedom.
 The catalogue of shipped scenes and scene files is :mod:`deformable.scenes`.
 """
 
-from .constraints import AXES, CORNERS, EDGES, Clamp, HeldDofs, Pin, Slide, edges_named, hold, select
+from .constraints import AXES, CORNERS, EDGES, Clamp, HeldDofs, Pin, Slide, Symmetry, edges_named, hold, select
 from .scene import Scene
 
-__all__ = ["Scene", "Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES",
+__all__ = ["Scene", "Pin", "Slide", "Clamp", "Symmetry", "select", "EDGES", "CORNERS", "AXES",
            "HeldDofs", "hold", "edges_named"]

@@ -12,6 +12,10 @@ backends:
 
 :class:`Pin` holds positions (optionally moving them rigidly in time),
 :class:`Slide` lets nodes move along one axis only (the curtain rail),
+:class:`Symmetry` puts an edge on a plane of symmetry (a coordinate plane):
+its nodes on the plane, the surface meeting it perpendicularly (the quarter
+and half models of the shell benchmarks; FE only: FD's operators act alike on
+x, y and z, and the mirror ghost row differs between them),
 :class:`Clamp` holds an edge and its tangent plane, not the in-plane stretch
 across it (FD: the edge row, with a ghost row outside it that holds the slope;
 FE: values, the derivative along the edge, and the normal
@@ -29,7 +33,7 @@ from ..checks import function
 from ..errors import InputError
 from ..geometry.sheet import CORNERS, EDGES
 
-__all__ = ["Pin", "Slide", "Clamp", "select", "EDGES", "CORNERS", "AXES", "HeldDofs", "hold", "edges_named"]
+__all__ = ["Pin", "Slide", "Clamp", "Symmetry", "select", "EDGES", "CORNERS", "AXES", "HeldDofs", "hold", "edges_named"]
 
 AXES = {"x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
 
@@ -161,6 +165,56 @@ class Clamp:
         return [self.where] if isinstance(self.where, str) else list(self.where)
 
 
+@dataclass(frozen=True)
+class Symmetry:
+    """The edge(s) ``where`` on a plane of symmetry with normal ``normal`` ("x", "y", "z" or 0, 1, 2).
+
+    The mirror image of the sheet across the plane continues it smoothly: the edge's nodes keep their
+    coordinate along the normal (the plane through them), and the tangent across the edge is along the normal
+    (its other two components vanish, and so do their derivatives along the edge). On FE these are held
+    degrees of freedom: the value and the derivative along the edge in the normal's coordinate, the derivative
+    across the edge and the mixed one in the other two. The initial shape must meet the plane so (checked).
+    The symmetric solution of a whole sheet satisfies these exactly, so a quarter model with two symmetry
+    edges has the same discrete solution as the whole on the same elements.
+    """
+
+    where: object
+    normal: object = "x"
+
+    def __post_init__(self):
+        names = [self.where] if isinstance(self.where, str) else self.where
+        if not isinstance(names, (list, tuple)) or not names or not all(n in EDGES for n in names):
+            raise InputError(f"Symmetry.where must name edges {sorted(EDGES)}, got {self.where!r}",
+                             field="Symmetry.where", value=self.where)
+        axes = _axes(self.normal, 1)
+        if axes is None or len(axes) != 1:
+            raise InputError(f"Symmetry.normal must be one of 'x', 'y', 'z', 0, 1, 2; got {self.normal!r}",
+                             field="Symmetry.normal", value=self.normal)
+        object.__setattr__(self, "normal", axes[0])
+
+    @property
+    def edges(self) -> list[str]:
+        return [self.where] if isinstance(self.where, str) else list(self.where)
+
+    def check(self, sheet) -> None:
+        """InputError unless the initial shape lies on the plane along each edge and meets it perpendicularly."""
+        from ..geometry.surfaces import as_surface
+
+        s = as_surface(sheet.initial)
+        a1, a2 = sheet.coordinates()
+        for name in self.edges:
+            mask, edge = sheet.edge_nodes(name), sheet.edge(name)
+            r = s.r(a1[mask], a2[mask])
+            across = (s.r1, s.r2)[edge.axis](a1[mask], a2[mask])
+            scale = float(np.max(np.abs(r))) or 1.0
+            off_plane = float(np.ptp(r[:, self.normal]))
+            tilt = float(np.max(np.abs(np.delete(across, self.normal, axis=1)))) / float(np.max(np.abs(across)))
+            if off_plane > 1e-9 * scale or tilt > 1e-9:
+                raise InputError(f"Symmetry({name!r}, normal {'xyz'[self.normal]!r}): the initial shape must lie on "
+                                 f"the plane along the edge and meet it perpendicularly (coordinate spread "
+                                 f"{off_plane:.3g}, tangent tilt {tilt:.3g})", field="Symmetry.where", value=name)
+
+
 @dataclass
 class HeldDofs:
     """The constraints of a scene on one backend's degrees of freedom.
@@ -184,8 +238,9 @@ class HeldDofs:
         return X
 
 
-def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs: Callable) -> HeldDofs:
-    """Map a scene's Pin, Slide and Clamp to held degrees of freedom, the same way for every backend.
+def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs: Callable,
+         symmetry_dofs: Callable | None = None) -> HeldDofs:
+    """Map a scene's Pin, Slide, Clamp and Symmetry to held degrees of freedom, the same way for every backend.
 
     Parameters
     ----------
@@ -201,11 +256,23 @@ def hold(scene, ndof: int, node_dofs: Callable, edge_dofs: Callable, clamp_dofs:
         What a Clamp of the edge holds, for every coordinate or per coordinate (FD: the edge row, with
         the ghost row of the reflection clamp; FE: values and the
         derivative along the edge, and the normal component of the derivatives across it).
+    symmetry_dofs : callable (edge name, normal axis) -> tuple of three (x, y, z) int arrays, optional
+        What a Symmetry of the edge holds (FE: :class:`Symmetry`); None: the backend has no symmetry plane
+        (an InputError when the scene has one).
     """
     sheet = scene.sheet
     fixed = np.zeros((3, ndof), bool)
     motions = []
     for c in scene.constraints:
+        if isinstance(c, Symmetry):
+            if symmetry_dofs is None:
+                raise InputError("Symmetry is a constraint of the FE backend only (FD's mirror ghost row would differ "
+                                 "between x, y and z); use backend 'fe'", field="Scene.constraints", value=c)
+            c.check(sheet)
+            for edge in c.edges:
+                for k, dofs in enumerate(symmetry_dofs(edge, c.normal)):
+                    fixed[k, dofs] = True
+            continue
         if isinstance(c, Clamp):
             for edge in c.edges:
                 held = clamp_dofs(edge)

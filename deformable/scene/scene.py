@@ -24,7 +24,7 @@ from ..geometry.sheet import Sheet
 from ..physics.force_models import ForceModel
 from ..physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Spring, Wind
 from ..physics.material import Material
-from .constraints import Clamp, Pin, Slide
+from .constraints import Clamp, Pin, Slide, Symmetry
 
 __all__ = ["Scene"]
 
@@ -52,7 +52,7 @@ class Scene:
     sheet : Sheet
     material : Material
     forces : sequence of Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Spring, Wind
-    constraints : sequence of Pin, Slide, Clamp
+    constraints : sequence of Pin, Slide, Clamp, Symmetry
     force_model : str or ForceModel
         The force of eq. (11): a registered name ("tpbf87", "frozen", "variational", or a user's energy
         model's) or a ForceModel instance; kept as the instance. The default, "tpbf87", is the paper's force
@@ -113,7 +113,8 @@ class Scene:
         for f in forces:
             if isinstance(f, (PointLoad, Spring)):
                 self.sheet.locate(f.at, f"{type(f).__name__}.at")  # inside the rectangle, or a ValueError naming it
-        constraints = sequence("Scene.constraints", self.constraints, (Pin, Slide, Clamp), "Pin, Slide or Clamp")
+        constraints = sequence("Scene.constraints", self.constraints, (Pin, Slide, Clamp, Symmetry),
+                               "Pin, Slide, Clamp or Symmetry")
         if not isinstance(self.name, str):
             raise InputError(f"Scene.name must be a string, got {self.name!r}", field="Scene.name", value=self.name)
         object.__setattr__(self, "forces", forces)

@@ -18,7 +18,7 @@ def test_scene_rejects_unknown_force_models_and_foreign_objects():
         dm.Scene(sheet, mat, force_model="frozen")
     with pytest.raises(ValueError, match="is not a Gravity"):
         dm.Scene(sheet, mat, forces=[(0, 0, 1)])
-    with pytest.raises(ValueError, match="is not a Pin, Slide or Clamp"):
+    with pytest.raises(ValueError, match="is not a Pin, Slide, Clamp or Symmetry"):
         dm.Scene(sheet, mat, constraints=["top"])
     with pytest.raises(ValueError, match="Scene.rest_metric must be"):
         dm.Scene(sheet, mat, rest_metric=[[1.0, 0.2], [0.0, 1.0]])
