@@ -82,12 +82,13 @@ from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad,
 from .physics.material import Material
 from .scene.constraints import Clamp, Pin, Slide, Symmetry, select
 from .scene.scene import Scene
+from .solve.continuation import equilibrium_path
 from .solve.equilibrium import equilibrium
 
 __version__ = "0.1.0"
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
-    "Sample", "ConvergenceError", "equilibrium", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Gravity",
+    "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Gravity",
     "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "Koiter",
     "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface", "DivergenceError", "StalledError", "RunResult", "State",
     "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric", "normal", "Callback", "DivergenceGuard",

@@ -131,6 +131,11 @@ class Loads:
         G = self.spring_gradient(X, t) if self.springs else np.zeros((self.n, 3))
         return G + self._moments.gradient(X, t, factor) if self._moments is not None else G
 
+    def factored_gradient(self, X: np.ndarray, t: float) -> np.ndarray:
+        """The gradient of the part of :meth:`potential_energy` that ``factor`` scales (the moments) at factor 1,
+        (ndof, 3) (N): minus the derivative of the load in the load factor, beside the applied loads."""
+        return self._moments.gradient(X, t, 1.0) if self._moments is not None else np.zeros((self.n, 3))
+
     def potential_hessians(self, X: np.ndarray, t: float, factor: float = 1.0) -> list:
         """The Hessians of :meth:`potential_energy`, each (3 ndof, 3 ndof) blocked on its fixed pattern."""
         out = [self.spring_hessian(X, t)] if self.springs else []

@@ -43,7 +43,7 @@ from ..errors import ConvergenceError, InputError, UnstableEquilibrium
 from .newton import Newton
 from .potential import FlatEnergy, flat, unflat
 
-__all__ = ["RESTARTS", "History", "Stability", "equilibrium", "stability"]
+__all__ = ["RESTARTS", "History", "Stability", "equilibrium", "nearest_modes", "stability"]
 
 #: the most solves ``perturb`` adds, each from the last unstable state moved along its lowest mode
 RESTARTS = 3
@@ -87,7 +87,7 @@ class History(list):
     stability: Stability | None = None
 
 
-def _modes(A, k: int):
+def nearest_modes(A, k: int):
     """The k eigenvalues (ascending) of the symmetric A nearest 0 (dense below :data:`_DENSE` unknowns: the k
     lowest) and their eigenvectors (n, k)."""
     n = A.shape[0]
@@ -130,13 +130,13 @@ def stability(solver: Newton, x, mode: bool = False) -> Stability:
         pass
     lowest = vector = None
     if negative is None:  # a pivot at round-off: the negative eigenvalues among those nearest 0
-        w, V = _modes(A, 6)
+        w, V = nearest_modes(A, 6)
         negative, method = int(np.sum(w < -tiny)), "eigenvalues"
         lowest, vector = float(w[0]), V[:, 0]
     if mode and negative and vector is None:
         k = negative + 2
         while True:  # eigenvalues nearest 0 until every negative one is among them (or all are)
-            w, V = _modes(A, k)
+            w, V = nearest_modes(A, k)
             if int(np.sum(w < 0)) >= negative or k >= n - 1:
                 break
             k = min(2 * k, n - 1)
