@@ -35,7 +35,7 @@ import numpy as np
 from ...errors import InputError
 from .base import RESIDUALS, EnergyModel
 
-__all__ = ["Koiter", "form", "weights"]
+__all__ = ["Koiter", "ShellEnergy", "form", "weights"]
 
 #: the unit component tensors of (t11, t22, t12) (a symmetric t = sum_c t_c U_c)
 _UNITS = np.array([[[1.0, 0.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 1.0]], [[0.0, 1.0], [1.0, 0.0]]])
@@ -62,8 +62,35 @@ def weights(E: float, nu: float, h: float) -> tuple[float, float]:
     return E * h / 8, E * h**3 / 24
 
 
+class ShellEnergy(EnergyModel):
+    """A shell energy quadratic in the strains at each point, ``W = cs s^T K s + cb b^T K b`` with a 3 x 3 form K
+    (3, 3, P) of the residuals (t11, t22, t12) and per-point factors cs, cb (P,) from :meth:`_form`: Koiter's
+    isotropic shell and the orthotropic one (:mod:`.orthotropic`) share the density and its exact
+    derivatives."""
+
+    fields = ()
+    rest = True
+
+    def _form(self, params):  # -> (K (3, 3, P), cs (P,), cb (P,))
+        raise NotImplementedError
+
+    def density(self, s, b, params):
+        K, cs, cb = self._form(params)
+        return cs * np.einsum("cp,cdp,dp->p", s, K, s) + cb * np.einsum("cp,cdp,dp->p", b, K, b)
+
+    def gradient(self, s, b, params):
+        K, cs, cb = self._form(params)
+        return np.concatenate([2 * cs * np.einsum("cdp,dp->cp", K, s), 2 * cb * np.einsum("cdp,dp->cp", K, b)])
+
+    def hessian(self, s, b, params):
+        K, cs, cb = self._form(params)
+        H = np.zeros((6, 6, K.shape[-1]))
+        H[:3, :3], H[3:, 3:] = 2 * cs * K, 2 * cb * K
+        return H
+
+
 @dataclass(frozen=True, eq=False)
-class Koiter(EnergyModel):
+class Koiter(ShellEnergy):
     """Koiter's isotropic shell (module docstring): ``Scene(force_model=Koiter(E=..., nu=..., h=...))``.
 
     Parameters
@@ -80,8 +107,6 @@ class Koiter(EnergyModel):
 
     name = "koiter"
     summary = "Koiter's isotropic shell: Young's modulus E, Poisson's ratio nu, thickness h (strains in G0)"
-    fields = ()
-    rest = True
     E: float = 1.0e6
     nu: float = 0.3
     h: float = 1.0e-3
@@ -125,17 +150,3 @@ class Koiter(EnergyModel):
         cm, cb = self.stiffnesses
         J = params["J"][0, 0]
         return params["K"], J * cm / 8, J * cb / 2  # W = cs s^T K s + cb b^T K b
-
-    def density(self, s, b, params):
-        K, cs, cb = self._form(params)
-        return cs * np.einsum("cp,cdp,dp->p", s, K, s) + cb * np.einsum("cp,cdp,dp->p", b, K, b)
-
-    def gradient(self, s, b, params):
-        K, cs, cb = self._form(params)
-        return np.concatenate([2 * cs * np.einsum("cdp,dp->cp", K, s), 2 * cb * np.einsum("cdp,dp->cp", K, b)])
-
-    def hessian(self, s, b, params):
-        K, cs, cb = self._form(params)
-        H = np.zeros((6, 6, K.shape[-1]))
-        H[:3, :3], H[3:, 3:] = 2 * cs * K, 2 * cb * K
-        return H
