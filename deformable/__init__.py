@@ -78,7 +78,7 @@ from .io import (
 )
 from .physics.energy import Energy
 from .physics.force_models import EnergyModel, ForceModel, Koiter, Orthotropic, StrengthModel
-from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Sinusoidal, Spring, Wind
+from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Pressure, Sinusoidal, Spring, Wind
 from .physics.material import Material
 from .scene.constraints import Clamp, Pin, Slide, Symmetry, select
 from .scene.scene import Scene
@@ -88,7 +88,7 @@ from .solve.equilibrium import equilibrium
 __version__ = "0.1.0"
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
-    "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Gravity",
+    "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Pressure", "Gravity",
     "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "Koiter", "Orthotropic",
     "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface", "DivergenceError", "StalledError", "RunResult", "State",
     "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric", "normal", "Callback", "DivergenceGuard",

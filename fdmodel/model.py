@@ -55,7 +55,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from deformable.backends.contract import EdgeRule, Sample
+from deformable.backends.contract import EdgeRule, Patches, Sample
 from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
@@ -441,6 +441,17 @@ class FDModel:
         W = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(i.size), 4), dofs.ravel())), shape=(i.size, self.ndof))
         W.eliminate_zeros()
         return W
+
+    def patches(self) -> Patches:
+        """The cells, each reading its four corners at its centre: r their mean, r_1 and r_2 the mean of its two
+        differences along a1 and a2 (the midpoint rule of the bilinear cell; summation by parts then holds on
+        every row, which node-centred forward differences with backward ones on the last row break)."""
+        M, N = self.M, self.N
+        k = np.arange(self.ndof).reshape(M, N)[:-1, :-1].ravel()
+        cols = np.stack([k, k + N, k + N + 1, k + 1], axis=1)  # corners (0, 0), (1, 0), (1, 1), (0, 1)
+        c1, c2 = np.array([-1.0, 1.0, 1.0, -1.0]) / (2 * self.h1), np.array([-1.0, -1.0, 1.0, 1.0]) / (2 * self.h2)
+        values = np.broadcast_to(np.stack([np.full(4, 0.25), c1, c2])[:, None, None, :], (3, k.size, 1, 4))
+        return Patches(cols, values, np.full((k.size, 1), self.h1 * self.h2))
 
     def edge_rule(self, name: str) -> EdgeRule:
         """The edge's nodes with their shares of its length (the trapezoidal rule: half at its ends); r_across the

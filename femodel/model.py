@@ -88,7 +88,7 @@ import skfem
 from skfem.quadrature import get_quadrature_line
 
 from deformable.algebra.elements import element_vectors
-from deformable.backends.contract import EdgeRule, Sample
+from deformable.backends.contract import EdgeRule, Patches, Sample
 from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
@@ -416,6 +416,12 @@ class FEModel:
         W.data[np.abs(W.data) < 1e-14] = 0.0  # the basis vanishes exactly at nodes and along element sides
         W.eliminate_zeros()
         return W
+
+    def patches(self) -> Patches:
+        """The Gauss points by element: each reads its element's 16 degrees of freedom."""
+        E, nq = self.a1q.shape
+        values = np.stack([np.broadcast_to(self.dq[d].T[None], (E, nq, 16)) for d in ((0, 0), (1, 0), (0, 1))])
+        return Patches(self.ldofs, values, np.broadcast_to(self.weights, (E, nq)))
 
     def edge_rule(self, name: str) -> EdgeRule:
         """The 4-point Gauss rule on each element side along the edge, with the basis and its derivative across."""

@@ -55,6 +55,19 @@ class EdgeRule:
     across: sp.csr_matrix
 
 
+@dataclass(frozen=True)
+class Patches:
+    """A backend's quadrature points grouped by the degrees of freedom they read: G groups (FE: elements; FD:
+    cells, one point at the centre) of q points each, reading c degrees of freedom ``cols`` (G, c); ``values`` (3, G, q, c) the weights
+    by which r, r_1 and r_2 at a point are sums of those degrees of freedom (r = sum_c values[0] X[cols]);
+    ``weights`` (G, q) the points' quadrature weights (area, scene units). Local derivatives of a density of
+    (r, r_1, r_2) assemble on the fixed pattern of the pairs of each group's columns."""
+
+    cols: np.ndarray
+    values: np.ndarray
+    weights: np.ndarray
+
+
 @runtime_checkable
 class Backend(Protocol):
     """What a discretisation offers: geometry, the system (21), the energy (13) and its derivatives.
@@ -125,6 +138,7 @@ class Backend(Protocol):
     def density_matrix(self, c: np.ndarray) -> sp.csr_matrix: ...
     def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]: ...
     def edge_rule(self, name: str) -> EdgeRule: ...
+    def patches(self) -> Patches: ...
 
     # -- the hook of deformable.contact: r at parameter points a (P, 2) as a fixed sparse matrix, r(a) = W @ X
     def point_matrix(self, a) -> sp.csr_matrix: ...

@@ -27,7 +27,7 @@ from .force_models import (
     energy_density,
     stretching_step,
 )
-from .forces import BodyForce, EdgeLoad, EdgeMoment, Force, Gravity, PointLoad, Sinusoidal, Spring, Wind
+from .forces import BodyForce, EdgeLoad, EdgeMoment, Force, Gravity, PointLoad, Pressure, Sinusoidal, Spring, Wind
 from .integrand import FD_SLOTS, FE_SLOTS, HESSIANS, DensityIntegrand, Integrand, slot_tensors
 from .loads import Loads
 from .material import Material
@@ -35,4 +35,4 @@ from .material import Material
 __all__ = ["Material", "Energy", "kinetic_energy", "ForceModel", "StrengthModel", "EnergyModel", "RESIDUALS",
            "TPBF87", "Frozen", "Variational", "QuadraticEnergy", "alpha", "beta", "energy_density", "stretching_step",
            "Integrand", "DensityIntegrand", "slot_tensors", "HESSIANS", "FE_SLOTS", "FD_SLOTS", "Gravity", "BodyForce",
-           "EdgeLoad", "EdgeMoment", "PointLoad", "Spring", "Wind", "Sinusoidal", "Force", "Loads"]
+           "EdgeLoad", "EdgeMoment", "PointLoad", "Pressure", "Spring", "Wind", "Sinusoidal", "Force", "Loads"]

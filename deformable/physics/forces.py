@@ -13,6 +13,9 @@ Kinds, so that each backend can integrate them its own way:
   spring between a material point of the sheet and an anchor (which may move),
   ``f = -k (|d| - L0) d / |d|``, ``d = r(a) - anchor(t)``: conservative, with
   the energy ``k (|d| - L0)^2 / 2`` and its exact Hessian for the implicit step;
+- ``"pressure"``: :class:`Pressure`, a follower pressure p on the deformed surface along its normal
+  r_1 x r_2, as the potential -p V of the enclosed volume (:mod:`deformable.physics.pressure`): exact
+  where every edge is held;
 - ``"surface"``: :class:`Wind`, aerodynamic pressure on the sheet's normal with
   the relative velocity u = w - v (the usual cloth wind model),
   ``f = c (u . n) |u . n| n`` per unit of *current* area (|r_1 x r_2| per unit
@@ -36,7 +39,7 @@ from ..checks import function, real, vector
 from ..errors import InputError
 from ..geometry.sheet import EDGES
 
-__all__ = ["Gravity", "BodyForce", "EdgeLoad", "EdgeMoment", "PointLoad", "Spring", "Wind", "Sinusoidal", "Force"]
+__all__ = ["Gravity", "BodyForce", "EdgeLoad", "EdgeMoment", "PointLoad", "Pressure", "Spring", "Wind", "Sinusoidal", "Force"]
 
 
 def _vector(name: str, value) -> np.ndarray:
@@ -219,6 +222,33 @@ class EdgeMoment:
 
 
 @dataclass(frozen=True)
+class Pressure:
+    r"""A follower pressure p (Pa = N/m^2) on the deformed sheet, along its normal: the force density
+    ``p r_1 x r_2`` per unit parameter area (p |r_1 x r_2| n per unit current area, n = r_1 x r_2 / |.|).
+
+    It is the gradient of the potential ``-p V``, V = (1/3) int r . (r_1 x r_2) da the volume of the cone from
+    the origin to the sheet, exactly when the boundary terms of the variation vanish: every edge held (Pin or
+    Clamp), which :class:`deformable.physics.pressure.PressurePotential` checks. On a sheet with a free edge a
+    follower pressure is not conservative (its load stiffness is not symmetric; Schweizerhof and Ramm 1984,
+    "Displacement dependent pressure loads in nonlinear finite element analyses", Computers & Structures 18,
+    1099-1114) and is refused. Its exact Hessian enters Newton; it scales with ``equilibrium``'s load steps
+    and an arc length's load factor, and with ``time``.
+    """
+
+    p: float = 0.0
+    time: Callable[[float], float] | None = None
+    kind = "pressure"
+
+    def __post_init__(self):
+        object.__setattr__(self, "p", real("Pressure.p", self.p))
+        function("Pressure.time", self.time)
+
+    def pressure(self, t: float) -> float:
+        """p at time t (Pa)."""
+        return _factor(self.time, t) * self.p
+
+
+@dataclass(frozen=True)
 class PointLoad:
     """A concentrated force (N) at the parameter point ``at`` = (a1, a2)."""
 
@@ -350,4 +380,4 @@ class Wind:
         return (2 * self.coefficient * np.abs(un) * area)[:, None, None] * n[:, :, None] * n[:, None, :]
 
 
-Force = Gravity | BodyForce | EdgeLoad | EdgeMoment | PointLoad | Spring | Wind
+Force = Gravity | BodyForce | EdgeLoad | EdgeMoment | PointLoad | Pressure | Spring | Wind

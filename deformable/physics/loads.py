@@ -45,6 +45,7 @@ import scipy.sparse as sp
 from ..algebra.patterns import BlockPattern, FixedPattern
 from ..geometry.tensors import frame
 from .moments import EdgeMoments
+from .pressure import PressurePotential
 
 __all__ = ["Loads"]
 
@@ -78,12 +79,16 @@ class Loads:
         forces = model.scene.forces
         self.springs = tuple(f for f in forces if f.kind == "spring")
         self.moments = tuple(f for f in forces if f.kind == "moment")
+        self.pressures = tuple(f for f in forces if f.kind == "pressure")
         self.winds = tuple(f for f in forces if f.kind == "surface")
-        self.potentials = bool(self.springs or self.moments)
+        self.potentials = bool(self.springs or self.moments or self.pressures)
         self.conservative = not self.winds
-        self.linear = self.conservative and not self.moments and all(s.rest_length == 0 for s in self.springs)
+        self.linear = self.conservative and not self.moments and not self.pressures and all(s.rest_length == 0 for s in self.springs)
         self._rules = {}
         self._moments = EdgeMoments(model, self.moments) if self.moments else None
+        self._pressure = PressurePotential(model, self.pressures) if self.pressures else None
+        #: the state-dependent loads that scale with the load factor (moments, pressures)
+        self._factored = [p for p in (self._moments, self._pressure) if p is not None]
         self._points = [(f, *model.point_dofs(f.at, "PointLoad.at")) for f in forces if f.kind == "point"]
         self._springs = [(s, *model.point_dofs(s.at, "Spring.at")) for s in self.springs]
         self._spring_pattern = self._spring_hessian_pattern() if self.springs else None
@@ -122,24 +127,24 @@ class Loads:
 
     # -- the potential of springs and moments -------------------------------------
     def potential_energy(self, X: np.ndarray, t: float, factor: float = 1.0) -> float:
-        """The springs' energy and the moments' potential (J); ``factor`` scales the moments."""
+        """The springs' energy and the moments' and pressures' potentials (J); ``factor`` scales the latter."""
         e = self.spring_energy(X, t) if self.springs else 0.0
-        return e + self._moments.energy(X, t, factor) if self._moments is not None else e
+        return e + sum(p.energy(X, t, factor) for p in self._factored)
 
     def potential_gradient(self, X: np.ndarray, t: float, factor: float = 1.0) -> np.ndarray:
         """The gradient of :meth:`potential_energy`, (ndof, 3) (N): minus the springs' and moments' force."""
         G = self.spring_gradient(X, t) if self.springs else np.zeros((self.n, 3))
-        return G + self._moments.gradient(X, t, factor) if self._moments is not None else G
+        return G + sum(p.gradient(X, t, factor) for p in self._factored)
 
     def factored_gradient(self, X: np.ndarray, t: float) -> np.ndarray:
-        """The gradient of the part of :meth:`potential_energy` that ``factor`` scales (the moments) at factor 1,
+        """The gradient of the part of :meth:`potential_energy` that ``factor`` scales (moments, pressures) at factor 1,
         (ndof, 3) (N): minus the derivative of the load in the load factor, beside the applied loads."""
-        return self._moments.gradient(X, t, 1.0) if self._moments is not None else np.zeros((self.n, 3))
+        return sum((p.gradient(X, t, 1.0) for p in self._factored), np.zeros((self.n, 3)))
 
     def potential_hessians(self, X: np.ndarray, t: float, factor: float = 1.0) -> list:
         """The Hessians of :meth:`potential_energy`, each (3 ndof, 3 ndof) blocked on its fixed pattern."""
         out = [self.spring_hessian(X, t)] if self.springs else []
-        return out + [self._moments.hessian(X, t, factor)] if self._moments is not None else out
+        return out + [p.hessian(X, t, factor) for p in self._factored]
 
     # -- springs -----------------------------------------------------------------
     def _ends(self, X):

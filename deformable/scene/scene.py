@@ -22,7 +22,7 @@ from ..errors import IllPosedScene, InputError
 from ..geometry.compatibility import warn_if_incompatible
 from ..geometry.sheet import Sheet
 from ..physics.force_models import ForceModel
-from ..physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Spring, Wind
+from ..physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Pressure, Spring, Wind
 from ..physics.material import Material
 from .constraints import Clamp, Pin, Slide, Symmetry
 
@@ -51,7 +51,7 @@ class Scene:
     ----------
     sheet : Sheet
     material : Material
-    forces : sequence of Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Spring, Wind
+    forces : sequence of Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure, Spring, Wind
     constraints : sequence of Pin, Slide, Clamp, Symmetry
     force_model : str or ForceModel
         The force of eq. (11): a registered name ("tpbf87", "frozen", "variational", or a user's energy
@@ -108,8 +108,9 @@ class Scene:
         object.__setattr__(self, "force_model", force_model)
         self.material.check(self.sheet.nodes)
         nodal = self.nodal_material()  # evaluates a callable weight at the nodes: an InputError naming it
-        forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Spring,
-                                                        Wind), "Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Spring or Wind")
+        forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure,
+                                                        Spring, Wind),
+                          "Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure, Spring or Wind")
         for f in forces:
             if isinstance(f, (PointLoad, Spring)):
                 self.sheet.locate(f.at, f"{type(f).__name__}.at")  # inside the rectangle, or a ValueError naming it

@@ -160,7 +160,7 @@ def equilibrium_path(model, X0, length: float, steps: int = 50, max_load: float 
     free = fl.free
 
     def q_of(x):  # -dR/dlambda at x, flat
-        return F - flat(fl.loads.factored_gradient(unflat(x, fl.n), t)) if fl.loads.moments else F
+        return F - flat(fl.loads.factored_gradient(unflat(x, fl.n), t)) if fl.loads.potentials else F
 
     def residual(x, lam):
         fl.factor = lam

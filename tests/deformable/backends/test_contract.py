@@ -24,7 +24,7 @@ from ...conftest import FULL_ETA, FULL_XI, flat_model, flat_scene, gradient_erro
 ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads", "contact_samples"}
 METHODS = {"initial_state", "discretize", "grid", "tensors", "sample", "stiffness", "mass", "damping", "load",
            "internal_force", "fixed_dofs", "prescribed", "stable_step", "energy", "kinetic_energy",
-           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_rule",
+           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_rule", "patches",
            "point_matrix"}
 #: degrees of freedom per node
 NODE_DOFS = {"fd": 1, "fe": 4}
