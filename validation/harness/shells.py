@@ -16,6 +16,16 @@ delta / L = 2 k / K(k) (:func:`elastica_load`).
 
 The shallow arch: the strip with the rest shape z = H sin(pi a1 / L), pinned (hinged) at both ends, under a
 line load across its middle; it snaps through a limit point (the test of the arc-length path).
+
+The hinged cylindrical roof (Sabir and Lock 1972; Sze, Liu and Lo 2004, section 3.8, the isotropic roof of
+thickness 12.7): a cylindrical panel of radius R = 2540, length L = 508 and half angle theta = 0.1 rad, its
+straight edges hinged, its curved edges free, under a central point load P = lambda P_max, P_max = 3000,
+E = 3102.75, nu = 0.3 (the data as given in the hinged-roof demo of PENGoLINS, hanzhao2020/PENGoLINS,
+demos/hinged_cylin_roof/hinged_cylin_iso.py at 0f44368b, and the Kratos documentation page "Hinged cylindrical
+roof snapthrough", both citing Sze et al. 2004). Modelled as a quarter with two symmetry planes. The
+published path (:data:`ROOF_TABLE`: P / P_max against the centre's deflection -W_C, ABAQUS S4R) is read from
+the MBDyn test suite, zanoni-mbdyn/MBDyn, tests/plates/sze2004/sze38/sze38_ref_a.dat at 425115db ("# 12.7
+Unit thick, isotropic"), whose README cites Sze, Liu and Lo (2004).
 """
 
 from __future__ import annotations
@@ -26,7 +36,8 @@ from scipy.special import ellipk
 
 import deformable as dm
 
-__all__ = ["ROLL", "column", "elastica_load", "rolled_cantilever", "shallow_arch", "tip_gap"]
+__all__ = ["ROLL", "ROOF", "ROOF_TABLE", "column", "elastica_load", "hinged_roof", "rolled_cantilever", "shallow_arch",
+           "tip_gap"]
 
 #: the rolled strip: length, width (m), Young's modulus (Pa), thickness (m); D = E h^3 / 12 = 1 N m
 ROLL = dict(L=1.0, b=0.1, E=1.2e10, h=1e-3)
@@ -87,3 +98,36 @@ def shallow_arch(nodes: int, rise: float = 1.5e-3) -> dm.Scene:
 
     return _strip(nodes, rest=lambda a1, a2: np.stack([a1, a2, rise * np.sin(np.pi * a1 / L)], -1),
                   constraints=[dm.Pin(["left", "right"])], forces=[dm.EdgeLoad("top", f=load)])
+
+
+#: the isotropic hinged roof of thickness 12.7 (module docstring; units of the source: N, mm)
+ROOF = dict(R=2540.0, L=508.0, theta=0.1, P_max=3000.0, h=12.7, E=3102.75, nu=0.3)
+
+#: (P / P_max, -W_C) of Sze, Liu and Lo (2004) for the isotropic roof of thickness 12.7, as read from
+#: zanoni-mbdyn/MBDyn tests/plates/sze2004/sze38/sze38_ref_a.dat (commit 425115db39e00a06b4ea5c6dab4c19754953d852)
+ROOF_TABLE = np.array([
+    [0.0000, 0.000], [0.0877, 0.693], [0.1980, 1.638], [0.3473, 3.087], [0.4686, 4.477], [0.5647, 5.802],
+    [0.6381, 7.057], [0.6908, 8.237], [0.7246, 9.339], [0.7412, 10.358], [0.7421, 11.293], [0.7286, 12.141],
+    [0.7023, 12.903], [0.6649, 13.583], [0.6182, 14.188], [0.5643, 14.728], [0.5055, 15.217], [0.4442, 15.676],
+    [0.3830, 16.125], [0.3245, 16.590], [0.2717, 17.094], [0.2272, 17.657], [0.1940, 18.299], [0.1750, 19.028],
+    [0.1729, 19.852], [0.1905, 20.771], [0.2303, 21.780], [0.2950, 22.875], [0.3871, 24.049], [0.4443, 24.663],
+    [0.5093, 25.293], [0.5826, 25.940], [0.6644, 26.601], [0.7551, 27.276], [0.8549, 27.964], [0.9643, 28.663],
+    [1.0835, 29.374]])
+
+
+def hinged_roof(nodes: int) -> dm.Scene:
+    """A quarter of the hinged roof on ``nodes`` x ``nodes`` nodes (FE; module docstring): a1 along the arc
+    from the hinged edge ("left") to the crown ("right", the symmetry plane x = 0), a2 along the axis from the
+    free edge ("bottom") to the middle ("top", the plane y = L / 2); a quarter of the load at the corner."""
+    R, L, th = ROOF["R"], ROOF["L"], ROOF["theta"]
+
+    def roof(a1, a2):
+        phi = th - a1 / R
+        return np.stack([-R * np.sin(phi), a2, R * np.cos(phi) - R * np.cos(th)], axis=-1)
+
+    unused = np.ones((2, 2))
+    return dm.Scene(dm.Sheet(size=(R * th, L / 2), nodes=(nodes, nodes), rest=roof),
+                    dm.Material(mu=1.0, eta=unused, xi=unused),
+                    force_model=dm.Koiter(E=ROOF["E"], nu=ROOF["nu"], h=ROOF["h"]),
+                    constraints=[dm.Pin("left"), dm.Symmetry("right", "x"), dm.Symmetry("top", "y")],
+                    forces=[dm.PointLoad(at=(R * th, L / 2), f=(0.0, 0.0, -ROOF["P_max"] / 4))], name="hinged roof")
