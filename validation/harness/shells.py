@@ -26,6 +26,14 @@ roof snapthrough", both citing Sze et al. 2004). Modelled as a quarter with two 
 published path (:data:`ROOF_TABLE`: P / P_max against the centre's deflection -W_C, ABAQUS S4R) is read from
 the MBDyn test suite, zanoni-mbdyn/MBDyn, tests/plates/sze2004/sze38/sze38_ref_a.dat at 425115db ("# 12.7
 Unit thick, isotropic"), whose README cites Sze, Liu and Lo (2004).
+
+The pull-out of an open-ended cylinder (Sze, Liu and Lo 2004, section 3.5): a cylinder of radius R = 4.953,
+length L = 10.35 and thickness h = 0.094, E = 10.5e6, nu = 0.3125, its ends free, pulled outwards at mid-length
+by two opposite radial point forces P = lambda P_max, P_max = 40000 (the data of MBDyn's
+tests/plates/sze2004/sze.tex at 1d739212 and sze35/sze35.awk, which also gives the octant and the points:
+A the loaded point, B on the mid-plane 90 degrees from A, C at the free end on B's generator). Modelled as
+an octant with three symmetry planes, a quarter of P at A. :data:`PULLOUT_TABLE` (P / P_max, w_A, -u_B, -u_C,
+ABAQUS S4R on 24 x 36) is MBDyn's tests/plates/sze2004/sze35/sze35_ref.dat at 425115db.
 """
 
 from __future__ import annotations
@@ -36,7 +44,7 @@ from scipy.special import ellipk
 
 import deformable as dm
 
-__all__ = ["ROLL", "ROOF", "ROOF_TABLE", "column", "elastica_load", "hinged_roof", "rolled_cantilever", "shallow_arch",
+__all__ = ["PULLOUT", "PULLOUT_TABLE", "ROLL", "ROOF", "ROOF_TABLE", "pullout_cylinder", "column", "elastica_load", "hinged_roof", "rolled_cantilever", "shallow_arch",
            "tip_gap"]
 
 #: the rolled strip: length, width (m), Young's modulus (Pa), thickness (m); D = E h^3 / 12 = 1 N m
@@ -131,3 +139,39 @@ def hinged_roof(nodes: int) -> dm.Scene:
                     force_model=dm.Koiter(E=ROOF["E"], nu=ROOF["nu"], h=ROOF["h"]),
                     constraints=[dm.Pin("left"), dm.Symmetry("right", "x"), dm.Symmetry("top", "y")],
                     forces=[dm.PointLoad(at=(R * th, L / 2), f=(0.0, 0.0, -ROOF["P_max"] / 4))], name="hinged roof")
+
+
+#: the pull-out cylinder (module docstring; the source's units)
+PULLOUT = dict(R=4.953, L=10.35, h=0.094, E=10.5e6, nu=0.3125, P_max=40000.0)
+
+#: (P / P_max, w_A, -u_B, -u_C) of Sze, Liu and Lo (2004), as read from zanoni-mbdyn/MBDyn
+#: tests/plates/sze2004/sze35/sze35_ref.dat (commit 425115db39e00a06b4ea5c6dab4c19754953d852), header "# P/Pmax wA -uB -uC"
+PULLOUT_TABLE = np.array([
+    [0.00, 0.000, 0.000, 0.000], [0.025, 0.819, 0.864, 0.872], [0.05, 1.260, 1.471, 1.493],
+    [0.075, 1.527, 1.901, 1.946], [0.10, 1.707, 2.217, 2.293], [0.15, 1.936, 2.641, 2.792],
+    [0.20, 2.079, 2.904, 3.106], [0.25, 2.180, 3.087, 3.310], [0.30, 2.257, 3.227, 3.452],
+    [0.35, 2.321, 3.342, 3.556], [0.40, 2.376, 3.443, 3.632], [0.45, 2.425, 3.539, 3.688],
+    [0.50, 2.473, 3.653, 3.718], [0.525, 2.543, 4.061, 3.580], [0.55, 2.577, 4.171, 3.518],
+    [0.60, 2.618, 4.274, 3.452], [0.65, 2.648, 4.338, 3.410], [0.70, 2.672, 4.385, 3.378],
+    [0.75, 2.692, 4.423, 3.353], [0.80, 2.710, 4.455, 3.332], [0.85, 2.726, 4.483, 3.313],
+    [0.90, 2.741, 4.508, 3.297], [0.95, 2.755, 4.530, 3.283], [1.00, 2.768, 4.551, 3.269]])
+
+
+def pullout_cylinder(around: int, along: int) -> dm.Scene:
+    """An octant of the pull-out cylinder (FE; module docstring) on ``around`` x ``along`` nodes: a1 the arc from
+    C's generator (theta = 0, "left", the plane z = 0) to A's (theta = pi / 2, "right", the plane x = 0), a2
+    from the free end ("bottom") to the mid-plane ("top", y = L / 2); the points A = (R pi / 2, L / 2),
+    B = (0, L / 2), C = (0, 0) in (a1, a2)."""
+    R, L = PULLOUT["R"], PULLOUT["L"]
+
+    def cylinder(a1, a2):
+        return np.stack([R * np.cos(a1 / R), a2, R * np.sin(a1 / R)], axis=-1)
+
+    unused = np.ones((2, 2))
+    arc = R * np.pi / 2
+    return dm.Scene(dm.Sheet(size=(arc, L / 2), nodes=(around, along), rest=cylinder),
+                    dm.Material(mu=1.0, eta=unused, xi=unused),
+                    force_model=dm.Koiter(E=PULLOUT["E"], nu=PULLOUT["nu"], h=PULLOUT["h"]),
+                    constraints=[dm.Symmetry("left", "z"), dm.Symmetry("right", "x"), dm.Symmetry("top", "y")],
+                    forces=[dm.PointLoad(at=(arc, L / 2), f=(0.0, 0.0, PULLOUT["P_max"] / 4))],
+                    name="pull-out cylinder")
