@@ -100,3 +100,18 @@ def test_a_callable_material_keeps_its_meaning_on_every_grid():
     fine = scene.with_nodes((9, 9))
     np.testing.assert_allclose(fine.nodal_material().mu, 1.0 + fine.sheet.coordinates()[0])
     assert make_model(fine, "fd").mu.shape == (9, 9)
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_a_callable_material_runs_through_a_time_step_and_the_series_fields(backend):
+    """The node consumers (the stable-step estimate of dt = "auto", the series' fields) read its node values."""
+    from deformable.io.series import node_fields
+
+    full = lambda a1, a2: np.stack([np.stack([10 + a2, 1 + 0 * a1], -1), np.stack([1 + 0 * a1, 10 + a1], -1)], -2)  # noqa: E731
+    mat = dm.Material(mu=lambda a1, a2: 0.1 + 0.05 * a1, gamma=0.01, eta=full, xi=np.full((2, 2), 1e-3))
+    scene = dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(7, 7)), mat, forces=[dm.Gravity()], constraints=[dm.Pin("top")],
+                     force_model="variational")
+    model = make_model(scene, backend)
+    result = dm.TimeStepper(model, "auto").run(model.initial_state(), steps=2)
+    assert np.all(np.isfinite(result.state.X)) and result.state.step == 2
+    assert "G11" in node_fields(model, result.state.X, result.state.V)
