@@ -195,7 +195,7 @@ def equilibrium_path(model, X0, length: float, steps: int = 50, max_load: float 
         new = point(x_new, lam_new, iterations, branch)
         last = path[-1]
         if (not switched and new.stability.negative == last.stability.negative + 1 and
-                np.sign(lam_new - lam) == np.sign(lam - path[-2].load if len(path) > 1 else 1.0)):
+                np.sign(lam_new - lam) == (np.sign(lam - path[-2].load) if len(path) > 1 else 1.0)):
             # a simple bifurcation between last and new (the count rose while the load kept its direction)
             fl.factor = last.load
             A = solver.newton_matrix(flat(last.X), 0.0, 0.0, kind="newton")
