@@ -170,8 +170,8 @@ class EdgeMoment:
 
     (d the outward tangent) the load is conservative, its work m theta per unit length, and its gradient
     and Hessian are exact (:meth:`angle`); the moment about a fixed axis is the classical end moment of a
-    rolled cantilever (Simo and Fox 1989, "On a stress resultant geometrically exact shell model", CMAME 72;
-    Sze, Liu and Lo 2004, FEAD 40, test 3.1). It stays "about the edge's tangent" while the edge keeps its
+    rolled cantilever (Sze, Liu and Lo 2004, "Popular benchmark problems for geometric nonlinear analysis of
+    shells", FEAD 40, test 3.2). It stays "about the edge's tangent" while the edge keeps its
     direction, as there; where the edge itself turns, its component along the turned edge is what acts.
 
     Parameters

@@ -1,8 +1,7 @@
 r"""Shell benchmark problems shared by the tests and the ``shells`` study (issue 28).
 
-The rolled cantilever (Simo and Fox 1989, CMAME 72, 267-304, section 6.1; Sze, Liu and Lo 2004, FEAD 40,
-1551-1569, test 3.1): a strip of length L, clamped at a1 = 0, rolled by an end moment about its width
-(:class:`deformable.EdgeMoment`) into a circle of radius EI / M; at M = 2 pi EI / L the free end comes back
+The rolled cantilever (Sze, Liu and Lo 2004, FEAD 40, 1551-1569, test 3.2): a strip of length L, clamped at
+a1 = 0, rolled by an end moment about its width (:class:`deformable.EdgeMoment`) into a circle of radius EI / M; at M = 2 pi EI / L the free end comes back
 to the clamp. With Koiter's energy at nu = 0 (no anticlastic coupling) the strip bends cylindrically, its
 bending stiffness per unit width D = E h^3 / 12. Koiter's bending measure is B = n . r_11, the curvature times
 the stretch of the axis, so the moment also stretches the axis by about kappa^2 D / (E h) (3e-6 here, h / R

@@ -6,7 +6,7 @@ Each part states its theory; every check is computed from the measurements.
    eta_ij(a1, a2), pinned at the manufactured shape. FD weighs each difference term at its own centre:
    second order; FE (bicubic Hermite): fourth order in the nodal values.
 2. *The rolled cantilever* (:mod:`validation.harness.shells`): an end moment M = 2 pi EI / L rolls the strip
-   into a full circle, its free end back at the clamp (Simo and Fox 1989; Sze, Liu and Lo 2004, test 3.1).
+   into a full circle, its free end back at the clamp (Sze, Liu and Lo 2004, test 3.2).
    The tip's gap, over L: FE within 1e-3 at its finest grid and about fourth order; FD second order.
 3. *The frozen clamped plate*: the ghost-row clamp under the paper's K(r) R = F: the centre deflection
    against Timoshenko's 0.00126 q a^4 / D (digits 0.00126531909 from a Richardson-extrapolated bicubic
