@@ -33,6 +33,20 @@ tests/plates/sze2004/sze.tex at 1d739212 and sze35/sze35.awk, which also gives t
 A the loaded point, B on the mid-plane 90 degrees from A, C at the free end on B's generator). Modelled as
 an octant with three symmetry planes, a quarter of P at A. :data:`PULLOUT_TABLE` (P / P_max, w_A, -u_B, -u_C,
 ABAQUS S4R on 24 x 36) is MBDyn's tests/plates/sze2004/sze35/sze35_ref.dat at 425115db.
+
+The pinched cylinder mounted over rigid diaphragms (Sze, Liu and Lo 2004, section 3.6): a cylinder of radius
+R = 100, length L = 200 and thickness h = 1, E = 30e3, nu = 0.3, its ends on diaphragms rigid in their plane
+(the radial and circumferential displacements held, the axial one free), pinched at mid-length by two
+opposite inward radial point forces P = lambda P_max, P_max = 12000 (the data of MBDyn's sze.tex, and the
+octant of sze36/sze36.awk at 425115db: the diaphragm at y = 0 holding x and z, symmetry planes x = 0, z = 0
+and y = L / 2, a quarter of P at A, the drive "(Pmax/4)" of sze36/sze36 at 3f0d44f5; A the loaded point,
+B on the mid-plane 90 degrees from A). :data:`PINCHED_TABLE` (P / P_max, -W_A, U_B, ABAQUS S4R on 48 x 48,
+as sze.tex states) is MBDyn's tests/plates/sze2004/sze36/sze36_ref.dat at 425115db.
+
+Looked for and not used: the pinched semi-cylinder (section 3.7): its table is MBDyn's sze37/sze37_ref.dat
+and its data in sze.tex, but MBDyn has no model of it (sze.tex: "todo") and no public source read here
+states its boundary conditions; the hemisphere (section 3.4): MBDyn has no table (sze.tex: "not
+implemented"), and the table in Elmer's test suite has unlabelled columns.
 """
 
 from __future__ import annotations
@@ -43,7 +57,7 @@ from scipy.special import ellipk
 
 import deformable as dm
 
-__all__ = ["PULLOUT", "PULLOUT_TABLE", "ROLL", "ROOF", "ROOF_TABLE", "pullout_cylinder", "column", "elastica_load", "hinged_roof", "rolled_cantilever", "shallow_arch",
+__all__ = ["PINCHED", "PINCHED_TABLE", "PULLOUT", "PULLOUT_TABLE", "ROLL", "ROOF", "ROOF_TABLE", "pullout_cylinder", "column", "elastica_load", "hinged_roof", "pinched_cylinder", "rolled_cantilever", "shallow_arch",
            "tip_gap"]
 
 #: the rolled strip: length, width (m), Young's modulus (Pa), thickness (m); D = E h^3 / 12 = 1 N m
@@ -161,16 +175,45 @@ def pullout_cylinder(around: int, along: int) -> dm.Scene:
     C's generator (theta = 0, "left", the plane z = 0) to A's (theta = pi / 2, "right", the plane x = 0), a2
     from the free end ("bottom") to the mid-plane ("top", y = L / 2); the points A = (R pi / 2, L / 2),
     B = (0, L / 2), C = (0, 0) in (a1, a2)."""
-    R, L = PULLOUT["R"], PULLOUT["L"]
+    return _octant(PULLOUT, (around, along), [], +1.0, "pull-out cylinder")
+
+
+def _octant(data: dict, nodes, held: list, sign: float, name: str) -> dm.Scene:
+    """An octant of a cylinder of ``data``'s R, L, E, nu, h: a1 the arc from theta = 0 ("left", the plane z = 0)
+    to theta = pi / 2 ("right", the plane x = 0), a2 from the end ("bottom") to the mid-plane ("top", y = L / 2),
+    the constraints ``held`` besides the three symmetry planes, a quarter of ``sign`` P_max along z at
+    (R pi / 2, L / 2)."""
+    R, L = data["R"], data["L"]
 
     def cylinder(a1, a2):
         return np.stack([R * np.cos(a1 / R), a2, R * np.sin(a1 / R)], axis=-1)
 
     unused = np.ones((2, 2))
     arc = R * np.pi / 2
-    return dm.Scene(dm.Sheet(size=(arc, L / 2), nodes=(around, along), rest=cylinder),
+    return dm.Scene(dm.Sheet(size=(arc, L / 2), nodes=tuple(nodes), rest=cylinder),
                     dm.Material(mu=1.0, eta=unused, xi=unused),
-                    force_model=dm.Koiter(E=PULLOUT["E"], nu=PULLOUT["nu"], h=PULLOUT["h"]),
-                    constraints=[dm.Symmetry("left", "z"), dm.Symmetry("right", "x"), dm.Symmetry("top", "y")],
-                    forces=[dm.PointLoad(at=(arc, L / 2), f=(0.0, 0.0, PULLOUT["P_max"] / 4))],
-                    name="pull-out cylinder")
+                    force_model=dm.Koiter(E=data["E"], nu=data["nu"], h=data["h"]),
+                    constraints=[*held, dm.Symmetry("left", "z"), dm.Symmetry("right", "x"), dm.Symmetry("top", "y")],
+                    forces=[dm.PointLoad(at=(arc, L / 2), f=(0.0, 0.0, sign * data["P_max"] / 4))], name=name)
+
+
+#: the pinched cylinder over rigid diaphragms (module docstring; the source's units)
+PINCHED = dict(R=100.0, L=200.0, h=1.0, E=30e3, nu=0.3, P_max=12000.0)
+
+#: (P / P_max, -W_A, U_B) of Sze, Liu and Lo (2004), as read from zanoni-mbdyn/MBDyn
+#: tests/plates/sze2004/sze36/sze36_ref.dat (commit 425115db39e00a06b4ea5c6dab4c19754953d852), header "# P/Pmax -WA UB"
+PINCHED_TABLE = np.array([
+    [0.00, 0.000, 0.000], [0.05, 9.561, -0.233], [0.075, 15.648, -0.922], [0.10, 23.164, -2.391],
+    [0.125, 29.375, -3.872], [0.15, 36.208, -2.154], [0.175, 51.499, 6.792], [0.20, 56.373, 10.448],
+    [0.25, 61.877, 14.905], [0.30, 65.498, 17.979], [0.35, 68.229, 20.365], [0.40, 70.424, 22.321],
+    [0.45, 72.204, 23.916], [0.50, 73.790, 25.381], [0.55, 75.139, 26.631], [0.60, 76.331, 27.735],
+    [0.65, 77.472, 28.843], [0.70, 78.451, 29.772], [0.75, 79.339, 30.604], [0.80, 80.218, 31.471],
+    [0.85, 81.045, 32.299], [0.90, 81.766, 32.989], [0.95, 82.435, 33.619], [1.00, 83.102, 34.272]])
+
+
+def pinched_cylinder(nodes: int) -> dm.Scene:
+    """An octant of the pinched cylinder (FE; module docstring) on ``nodes`` x ``nodes`` nodes: a1 the arc from
+    B's generator (theta = 0, "left", the plane z = 0) to A's (theta = pi / 2, "right", the plane x = 0), a2
+    from the diaphragm ("bottom", x and z held) to the mid-plane ("top", y = L / 2); A = (R pi / 2, L / 2) and
+    B = (0, L / 2) in (a1, a2)."""
+    return _octant(PINCHED, (nodes, nodes), [dm.Pin("bottom", axes=("x", "z"))], -1.0, "pinched cylinder")
