@@ -60,7 +60,7 @@ from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
 from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.force_models import EnergyModel, QuadraticEnergy
+from deformable.physics.force_models import EnergyModel, ForceModel, QuadraticEnergy
 from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, DensityIntegrand, Integrand
 from deformable.physics.loads import Loads
 from deformable.physics.material import TENSORS
@@ -482,9 +482,11 @@ class FDModel:
         """Positions with the held degrees of freedom at their values at time t, (M N, 3)."""
         return self._held.prescribed(X0, t)
 
-    def stable_step(self) -> float:
-        """The stretching bound of the semi-implicit step (s): h sqrt(mu / (2 eta)) for tpbf87, else inf."""
-        return self.force_model.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
+    def stable_step(self, force_model=None) -> float:
+        """The stretching bound of the semi-implicit step (s): h sqrt(mu / (2 eta)) for tpbf87, else inf;
+        under ``force_model`` (a registered name or instance), when given, instead of the sheet's own."""
+        fm = self.force_model if force_model is None else ForceModel.of(force_model)
+        return fm.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- energy ---------------------------------------------------------------
     def energy(self, X: np.ndarray) -> Energy:

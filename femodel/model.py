@@ -94,7 +94,7 @@ from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
 from deformable.geometry.tensors import frame
 from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.force_models import EnergyModel, QuadraticEnergy
+from deformable.physics.force_models import EnergyModel, ForceModel, QuadraticEnergy
 from deformable.physics.integrand import FE_SLOTS, DensityIntegrand, Integrand, slot_tensors
 from deformable.physics.loads import Loads
 from deformable.physics.material import TENSORS
@@ -452,9 +452,11 @@ class FEModel:
         """Kinetic energy V^T M V / 2 (J) with the consistent mass."""
         return kinetic_energy(self._M, self._check_state(V, "V"))
 
-    def stable_step(self) -> float:
-        """The stretching bound of the semi-implicit step (s): about 0.21 h sqrt(mu / (2 eta)) for tpbf87, else inf."""
-        return self.force_model.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
+    def stable_step(self, force_model=None) -> float:
+        """The stretching bound of the semi-implicit step (s): about 0.21 h sqrt(mu / (2 eta)) for tpbf87, else inf;
+        under ``force_model`` (a registered name or instance), when given, instead of the sheet's own."""
+        fm = self.force_model if force_model is None else ForceModel.of(force_model)
+        return fm.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- constraints ----------------------------------------------------------
     def _node_dofs(self, mask: np.ndarray, k: int = 0) -> np.ndarray:

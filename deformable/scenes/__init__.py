@@ -80,11 +80,12 @@ from .registry import (
     paper,
     sphere,
 )
+from .params import Parameter, Parameters, parameters
 from .scaling import equivalent_weights, fold_wavelength
 from .shapes import HORIZONTAL, VERTICAL, FoldNoise, smooth_ramp
 
 __all__ = ["SCENES", "SceneSpec", "SceneConfig", "HangingConfig", "CurtainConfig", "SilkyCurtainConfig",
            "PaperConfig", "FlagConfig", "FloorConfig", "SphereConfig", "DrapeConfig", "config", "build", "read_toml",
            "read_toml_text", "to_toml", "run_table", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
-           "sphere", "drape", "equivalent_weights", "fold_wavelength", "smooth_ramp", "FoldNoise", "hook_nodes",
+           "sphere", "drape", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes",
            "VERTICAL", "HORIZONTAL"]

@@ -88,7 +88,7 @@ from deformable.physics.force_models import ForceModel
 from validation.harness import drape
 from validation.harness.backends import BACKENDS, backend_dt, descriptor, make_model
 
-__all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "simulate",
+__all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "resolve", "simulate",
            "RUN_KEYS", "DEFAULT_EVERY"]
 
 log = logging.getLogger(__name__)
@@ -232,17 +232,10 @@ class Run:
     """
 
 
-def prepare(args) -> Run:
-    """Check all input and build the model; raises InputError (a ValueError) on bad input, writes nothing."""
-    run = Run()
-    if args.field not in FIELDS:
-        raise InputError(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
-                     value=args.field)
-    dt = _positive("dt", args.dt)
-    steps = _positive("steps", args.steps, int)
-    t_end = _positive("t-end", args.t_end)
-    every = _positive("every", args.every)
-    ck_every = _positive("checkpoint-every", args.checkpoint_every, int)
+def resolve(args, dt: float | None = None):
+    """The scene config, its [run] table, the fields set on the command line, the checkpoint (or None), the
+    backend's name, the Scene and the model of ``args`` (scene, overrides, backend, grid, force_model,
+    resume); ``dt`` the checked --dt. InputError on bad input; nothing written."""
     items = list(args.overrides)
     if args.scene is not None and "=" in args.scene and not args.scene.endswith(".toml"):
         items.insert(0, args.scene)  # deformable run --resume CK eta=2: no scene, overrides only
@@ -297,6 +290,21 @@ def prepare(args) -> Run:
     if cfg.dt > bound:
         log.warning("dt = %g s exceeds the %s backend's stretching stability bound %.3g s "
                     "(docs/design.md, 'Time stepping'): expect divergence", cfg.dt, backend, bound)
+    return cfg, table, fields_, checkpoint, backend, scene, model
+
+
+def prepare(args) -> Run:
+    """Check all input and build the model; raises InputError (a ValueError) on bad input, writes nothing."""
+    run = Run()
+    if args.field not in FIELDS:
+        raise InputError(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
+                     value=args.field)
+    dt = _positive("dt", args.dt)
+    steps = _positive("steps", args.steps, int)
+    t_end = _positive("t-end", args.t_end)
+    every = _positive("every", args.every)
+    ck_every = _positive("checkpoint-every", args.checkpoint_every, int)
+    cfg, table, fields_, checkpoint, backend, scene, model = resolve(args, dt)
     stepper = TimeStepper(model, cfg.dt, scheme=args.scheme or table.get("scheme"))
 
     if checkpoint is not None:
@@ -474,6 +482,8 @@ def execute(args) -> int:
     """``deformable run``: returns 0 when the run finished, 1 when it diverged."""
     quiet = getattr(args, "quiet", False)
     run = prepare(args)
+    if not quiet:  # the paper's two parameter groups and what they imply (deformable params)
+        print("\n".join(scenes.parameters(run.config, run.model, run.backend).lines()), flush=True)
     t0 = time.perf_counter()
     result, writer, energy, written = simulate(run, progress=not quiet)
     e = run.model.energy(result.state.X)

@@ -1,0 +1,154 @@
+r"""A scene's parameters as the paper groups them, in SI units: what a person sets, and what it does.
+
+The paper's interface has two functionally independent sets (section 3.1; section 4 on units):
+*macro-control*, the mass density mu, the damping density gamma and the applied forces f, which the
+section 3.1 factor ``scale`` multiplies together; and *micro-control*, the weights eta_ij, xi_ij of the
+energy (13), the sheet's resistance to stretching and to bending. :func:`parameters` reads both off a
+scene's config and its model and adds what they imply:
+
+- what ``scale`` did (:meth:`~deformable.scenes.SceneConfig.scaling`): by eq. (11) divided by the scale, a
+  scaled sheet moves as the real one would with eta / scale and xi / scale;
+- the linear material the weights make: about a flat rest state the energy's stretching stiffness is
+  E h = 2 s_eta eta and its bending rigidity D = s_xi xi, with (s_eta, s_xi) the force model's
+  :attr:`~deformable.physics.ForceModel.stiffness` ((4, 2) for the variational model: Koiter's energy at
+  nu = 0 gives eta = E h / 8 and xi = E h^3 / 24; (1, 1) for the paper's force (14));
+- the stable step of the paper's semi-implicit scheme (eqs. (22)-(27)) with these mu and eta: lagging
+  alpha (eq. (25)) bounds it by about h sqrt(mu / (2 eta G)) on FD (the backend's ``stable_step``);
+- the bending length l_b = (D H / (mu g))^(1/4) (:func:`~deformable.scenes.fold_wavelength`; Cerda and
+  Mahadevan 2003), which sets the width of a hanging sheet's folds, against the grid spacing h: the
+  folds are resolved when l_b spans at least :data:`RESOLVED` spacings.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..physics.force_models import ForceModel
+
+__all__ = ["RESOLVED", "Parameter", "Parameters", "parameters"]
+
+#: grid spacings the bending length must span for the folds to be resolved (the catalogue's own rule)
+RESOLVED = 3.0
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter: ``real`` the real-world value, ``used`` the simulation's (after ``scale``), in ``unit``."""
+
+    name: str
+    real: float
+    used: float
+    unit: str
+    meaning: str
+
+    def line(self) -> str:
+        value = f"{self.used:.4g} {self.unit}"
+        if not math.isclose(self.real, self.used, rel_tol=1e-12):
+            value = f"{self.real:.4g} {self.unit} real-world, {self.used:.4g} {self.unit} in the simulation"
+        return f"  {self.name:<7} {value}: {self.meaning}"
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """The macro and micro groups of a scene and what they imply (module docstring).
+
+    Attributes
+    ----------
+    scene, backend, force_model : names
+    nodes : (M, N)
+    spacing : (h1, h2) in m
+    macro, micro : tuples of :class:`Parameter`
+    scaling : str
+        What ``scale`` did, in words.
+    stiffness : (E h in N/m, D in N m)
+        Koiter's and the orthotropic model's from their own E, nu, h: (E h / (1 - nu^2), D).
+    dt : float
+        The scene's time step (s).
+    semi_implicit_step : float
+        The stretching bound of the paper's semi-implicit scheme with these mu, eta on this grid (s).
+    own_step : float
+        The bound under the scene's own force model (s); inf when it lags nothing (the implicit schemes).
+    bending_length : float
+        l_b (m), with D of ``stiffness`` and H the sheet's length along a2; nan without a bending rigidity.
+    """
+
+    scene: str
+    backend: str
+    force_model: str
+    nodes: tuple
+    spacing: tuple
+    macro: tuple
+    micro: tuple
+    scaling: str
+    stiffness: tuple
+    dt: float
+    semi_implicit_step: float
+    own_step: float
+    bending_length: float
+
+    @property
+    def resolved(self) -> bool:
+        """The bending length spans at least :data:`RESOLVED` grid spacings."""
+        return self.bending_length >= RESOLVED * min(self.spacing)
+
+    def lines(self) -> list[str]:
+        """The report, one item a line (``deformable params``, and the start of ``deformable run``)."""
+        h = min(self.spacing)
+        out = [f"{self.scene}: {self.nodes[0]} x {self.nodes[1]} nodes on {self.backend}, spacing "
+               f"{self.spacing[0]:.4g} x {self.spacing[1]:.4g} m, force model {self.force_model}",
+               "macro-control (section 3.1): inertia, damping and loads, scaled together by scale",
+               *[p.line() for p in self.macro],
+               "micro-control (sections 3.2, 4): the weights of the energy (13)",
+               *[p.line() for p in self.micro]]
+        out.append(f"  as a material about the flat rest state: tensile stiffness {self.stiffness[0]:.4g} N/m, bending "
+                   f"rigidity D = {self.stiffness[1]:.4g} N m")
+        out.append(self.scaling)
+        step = self.semi_implicit_step
+        if math.isfinite(step):
+            where = ("within it" if self.dt < step else
+                     f"{self.dt / step:.3g} times above it (the semi-implicit scheme would diverge at it)")
+            out.append(f"stable step of the semi-implicit scheme (eqs. (22)-(27), the paper's force): dt < "
+                       f"{step:.3g} s with these mu, eta; the scene's dt = {self.dt:g} s is {where}")
+        else:
+            out.append("stable step of the semi-implicit scheme: unbounded (eta = 0)")
+        if not math.isfinite(self.own_step):
+            out.append(f"  {self.force_model} lags nothing: the implicit step has no such bound (accuracy sets dt)")
+        if math.isfinite(self.bending_length):
+            verdict = ("resolved" if self.resolved else
+                       f"NOT resolved: folds narrower than the grid can show (refine to h <= "
+                       f"{self.bending_length / RESOLVED:.3g} m)")
+            out.append(f"bending length (D H / (mu g))^(1/4) = {self.bending_length:.3g} m = {self.bending_length / h:.3g} "
+                       f"grid spacings; the folds' width follows it (Cerda and Mahadevan 2003): {verdict} (at "
+                       f"least {RESOLVED:g} spacings)")
+        return out
+
+
+def parameters(cfg, model, backend: str) -> Parameters:
+    """The parameters of a scene config ``cfg`` (:class:`~deformable.scenes.SceneConfig`) built as ``model``
+    on ``backend`` (module docstring)."""
+    s = cfg.scale
+    macro = (Parameter("mu", cfg.mu, s * cfg.mu, "kg/m^2", "mass density"),
+             Parameter("gamma", cfg.gamma, s * cfg.gamma, "kg/(m^2 s)", "damping density (eq. (11))"),
+             Parameter("f", cfg.mu * cfg.g, s * cfg.mu * cfg.g, "N/m^2",
+                       f"gravity's force density mu g (g = {cfg.g:g} m/s^2)"
+                       + (f"; the scene's other applied forces times {s:g} too" if s != 1 else "")))
+    fm = ForceModel.of(model.force_model)
+    own = hasattr(fm, "stiffnesses")  # Koiter's shell, the orthotropic sheet: their own E, nu, h
+    if own:
+        micro = tuple(Parameter(k, getattr(fm, k), getattr(fm, k), u, m) for k, u, m in (
+            ("E", "Pa", "Young's modulus"), ("nu", "", "Poisson's ratio"), ("h", "m", "thickness"))
+            if hasattr(fm, k))
+        stiffness = fm.stiffnesses
+    else:
+        micro = (Parameter("eta", cfg.eta, cfg.eta, "N/m", f"stretching weight eta_11 = eta_22; eta_12 = "
+                           f"{cfg.shear:g} eta"),
+                 Parameter("xi", cfg.xi, cfg.xi, "N m", f"bending weight xi_11 = xi_22; xi_12 = {cfg.shear:g} xi"))
+        se, sx = fm.stiffness
+        stiffness = (2 * se * cfg.eta, sx * cfg.xi)
+    D, weight = stiffness[1], s * cfg.mu * cfg.g  # the tension's scale: the weight of the sheet, scaled
+    bending = (D * cfg.size[1] / weight) ** 0.25 if D > 0 and weight > 0 else math.nan  # fold_wavelength's
+    return Parameters(scene=cfg.scene, backend=backend, force_model=fm.name, nodes=tuple(model.scene.sheet.nodes),
+                      spacing=tuple(model.spacing), macro=macro, micro=micro, scaling=cfg.scaling(),
+                      stiffness=stiffness, dt=cfg.dt, semi_implicit_step=model.stable_step("tpbf87"),
+                      own_step=model.stable_step(), bending_length=bending)
