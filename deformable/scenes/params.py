@@ -14,9 +14,12 @@ scene's config and its model and adds what they imply:
   nu = 0 gives eta = E h / 8 and xi = E h^3 / 24; (1, 1) for the paper's force (14));
 - the stable step of the paper's semi-implicit scheme (eqs. (22)-(27)) with these mu and eta: lagging
   alpha (eq. (25)) bounds it by about h sqrt(mu / (2 eta G)) on FD (the backend's ``stable_step``);
-- the bending length l_b = (D H / (mu g))^(1/4) (:func:`~deformable.scenes.fold_wavelength`; Cerda and
-  Mahadevan 2003), which sets the width of a hanging sheet's folds, against the grid spacing h: the
-  folds are resolved when l_b spans at least :data:`RESOLVED` spacings.
+- the bending length c = (D / (mu g))^(1/3) of Peirce's cantilever test (Peirce 1930, J. Textile Inst. 21,
+  T377; ASTM D1388), what a textile lab measures, and the folds' length scale l_f = (D H / (mu g))^(1/4)
+  (:func:`~deformable.scenes.fold_wavelength`; Cerda and Mahadevan 2003), which sets the width of a
+  hanging sheet's folds, against the grid spacing h: the folds are resolved when l_f spans at least
+  :data:`RESOLVED` spacings. Both with the simulated mu g (scaled), so with the real-world values when D
+  is read as D / scale.
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ from ..physics.force_models import ForceModel
 
 __all__ = ["RESOLVED", "Parameter", "Parameters", "parameters"]
 
-#: grid spacings the bending length must span for the folds to be resolved (the catalogue's own rule)
+#: grid spacings the folds' length scale must span for the folds to be resolved (the catalogue's own rule)
 RESOLVED = 3.0
 
 
@@ -70,7 +73,9 @@ class Parameters:
     own_step : float
         The bound under the scene's own force model (s); inf when it lags nothing (the implicit schemes).
     bending_length : float
-        l_b (m), with D of ``stiffness`` and H the sheet's length along a2; nan without a bending rigidity.
+        Peirce's c = (D / (mu g))^(1/3) (m), D of ``stiffness``; nan without a bending rigidity or weight.
+    fold_scale : float
+        l_f = (D H / (mu g))^(1/4) (m), H the sheet's length along a2; nan likewise.
     """
 
     scene: str
@@ -86,11 +91,12 @@ class Parameters:
     semi_implicit_step: float
     own_step: float
     bending_length: float
+    fold_scale: float
 
     @property
     def resolved(self) -> bool:
-        """The bending length spans at least :data:`RESOLVED` grid spacings."""
-        return self.bending_length >= RESOLVED * min(self.spacing)
+        """The folds' length scale spans at least :data:`RESOLVED` grid spacings."""
+        return self.fold_scale >= RESOLVED * min(self.spacing)
 
     def lines(self) -> list[str]:
         """The report, one item a line (``deformable params``, and the start of ``deformable run``)."""
@@ -114,13 +120,14 @@ class Parameters:
             out.append("stable step of the semi-implicit scheme: unbounded (eta = 0)")
         if not math.isfinite(self.own_step):
             out.append(f"  {self.force_model} lags nothing: the implicit step has no such bound (accuracy sets dt)")
-        if math.isfinite(self.bending_length):
+        if math.isfinite(self.fold_scale):
             verdict = ("resolved" if self.resolved else
                        f"NOT resolved: folds narrower than the grid can show (refine to h <= "
-                       f"{self.bending_length / RESOLVED:.3g} m)")
-            out.append(f"bending length (D H / (mu g))^(1/4) = {self.bending_length:.3g} m = {self.bending_length / h:.3g} "
-                       f"grid spacings; the folds' width follows it (Cerda and Mahadevan 2003): {verdict} (at "
-                       f"least {RESOLVED:g} spacings)")
+                       f"{self.fold_scale / RESOLVED:.3g} m)")
+            out.append(f"bending length (D / (mu g))^(1/3) = {self.bending_length:.3g} m (Peirce's cantilever test); "
+                       f"the folds' length scale (D H / (mu g))^(1/4) = {self.fold_scale:.3g} m = "
+                       f"{self.fold_scale / h:.3g} grid spacings (Cerda and Mahadevan 2003): {verdict} (at least "
+                       f"{RESOLVED:g} spacings)")
         return out
 
 
@@ -147,8 +154,10 @@ def parameters(cfg, model, backend: str) -> Parameters:
         se, sx = fm.stiffness
         stiffness = (2 * se * cfg.eta, sx * cfg.xi)
     D, weight = stiffness[1], s * cfg.mu * cfg.g  # the tension's scale: the weight of the sheet, scaled
-    bending = (D * cfg.size[1] / weight) ** 0.25 if D > 0 and weight > 0 else math.nan  # fold_wavelength's
+    both = D > 0 and weight > 0
+    peirce = (D / weight) ** (1 / 3) if both else math.nan
+    folds = (D * cfg.size[1] / weight) ** 0.25 if both else math.nan  # fold_wavelength's
     return Parameters(scene=cfg.scene, backend=backend, force_model=fm.name, nodes=tuple(model.scene.sheet.nodes),
                       spacing=tuple(model.spacing), macro=macro, micro=micro, scaling=cfg.scaling(),
                       stiffness=stiffness, dt=cfg.dt, semi_implicit_step=model.stable_step("tpbf87"),
-                      own_step=model.stable_step(), bending_length=bending)
+                      own_step=model.stable_step(), bending_length=peirce, fold_scale=folds)

@@ -52,10 +52,11 @@ def test_the_semi_implicit_step_is_the_lagged_alpha_bound_and_diverges_above_it(
         assert (result.status == "finished" and np.all(np.isfinite(result.state.X))) == bounded, result.status
 
 
-def test_the_bending_length_says_whether_the_folds_are_resolved():
+def test_the_folds_length_scale_says_whether_they_are_resolved():
     cfg, coarse = _params("flag", nodes=(16, 16))
-    assert coarse.bending_length == pytest.approx(scenes.fold_wavelength(cfg.xi, cfg.mu, cfg.g, cfg.size[1],
-                                                                         cfg.scale), rel=1e-12)
+    assert coarse.fold_scale == pytest.approx(scenes.fold_wavelength(cfg.xi, cfg.mu, cfg.g, cfg.size[1], cfg.scale),
+                                              rel=1e-12)
+    assert coarse.bending_length == pytest.approx((2 * cfg.xi / (cfg.mu * cfg.g)) ** (1 / 3), rel=1e-12)
     _, fine = _params("flag", nodes=(64, 64))
     assert not coarse.resolved and fine.resolved
     assert "NOT resolved" in "\n".join(coarse.lines()) and "NOT resolved" not in "\n".join(fine.lines())
