@@ -77,6 +77,7 @@ from .io import (
     save_checkpoint,
 )
 from .physics.energy import Energy
+from .physics.fabric import Fabric
 from .physics.force_models import EnergyModel, ForceModel, Koiter, Orthotropic, StrengthModel
 from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Pressure, Sinusoidal, Spring, Wind
 from .physics.material import Material
@@ -89,7 +90,7 @@ __version__ = "0.1.0"
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
     "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Pressure", "Gravity",
-    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "Koiter", "Orthotropic",
+    "PointLoad", "Sinusoidal", "Spring", "Wind", "Material", "ForceModel", "EnergyModel", "StrengthModel", "Koiter", "Orthotropic", "Fabric",
     "IllPosedScene", "Scene", "Sheet", "Surface", "as_surface", "DivergenceError", "StalledError", "RunResult", "State",
     "TimeStepper", "SCHEMES", "curvature", "gaussian_curvature", "metric", "normal", "Callback", "DivergenceGuard",
     "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",

@@ -137,6 +137,17 @@ class Sheet:
         """Parameter coordinates of the nodes, two (M, N) arrays (index order m, n)."""
         return np.meshgrid(*self.axes(), indexing="ij")
 
+    def fibre_stretch(self, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """How much each grid segment of the positions ``grid`` ((M, N, 3), m) is stretched against the rest
+        shape's: |r(m+1, n) - r(m, n)| / |r0(m+1, n) - r0(m, n)| - 1 along a1, (M - 1, N), and likewise along
+        a2, (M, N - 1) (dimensionless; a fibre's strain, the segment's chord against its rest chord)."""
+        rest = self.rest.r(*self.coordinates())
+        out = []
+        for axis in (0, 1):
+            d, d0 = np.diff(np.asarray(grid, float), axis=axis), np.diff(rest, axis=axis)
+            out.append(np.linalg.norm(d, axis=-1) / np.linalg.norm(d0, axis=-1) - 1.0)
+        return out[0], out[1]
+
     def edge(self, name: str) -> Edge:
         """The edge called ``name`` (one of :data:`EDGES`); ValueError naming the valid ones otherwise."""
         try:

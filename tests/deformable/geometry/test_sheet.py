@@ -95,3 +95,23 @@ def test_plane_is_exact():
     a1, a2 = np.array([0.0, 0.5]), np.array([1.0, 0.25])
     np.testing.assert_array_equal(p.r(a1, a2), [[1.0, 2.0, 4.0], [1.0, 2.5, 3.25]])
     assert p.r1(a1, a2).shape == (2, 3) and not p.r12(a1, a2).any()
+
+
+def test_fibre_stretch_is_each_segments_strain_against_the_rest_shape():
+    """A cylinder of radius 0.5 as the rest shape, stretched by 2 % along a1 and compressed by 1 % along a2: every
+    segment's chord changes by exactly those factors (a chord of the arc scales with the radius)."""
+    import numpy as np
+
+    from deformable.geometry.sheet import Sheet
+
+    def rest(a1, a2):
+        return np.stack([0.5 * np.sin(a1 / 0.5), a2, 0.5 * (1 - np.cos(a1 / 0.5))], axis=-1)
+
+    sheet = Sheet(size=(1.0, 0.6), nodes=(7, 5), rest=rest)
+    a1, a2 = sheet.coordinates()
+    r = rest(a1, a2)
+    stretched = np.stack([1.02 * r[..., 0], 0.99 * r[..., 1], 1.02 * r[..., 2]], axis=-1)
+    s1, s2 = sheet.fibre_stretch(stretched)
+    assert s1.shape == (6, 5) and s2.shape == (7, 4)
+    np.testing.assert_allclose(s1, 0.02, atol=1e-12)
+    np.testing.assert_allclose(s2, -0.01, atol=1e-12)
