@@ -101,8 +101,8 @@ class Parameters:
     def lines(self) -> list[str]:
         """The report, one item a line (``deformable params``, and the start of ``deformable run``)."""
         h = min(self.spacing)
-        out = [f"{self.scene}: {self.nodes[0]} x {self.nodes[1]} nodes on {self.backend}, spacing "
-               f"{self.spacing[0]:.4g} x {self.spacing[1]:.4g} m, force model {self.force_model}",
+        out = [(f"{self.scene}: {self.nodes[0]} x {self.nodes[1]} nodes on {self.backend}, spacing "
+                f"{self.spacing[0]:.4g} x {self.spacing[1]:.4g} m, force model {self.force_model}"),
                "macro-control (section 3.1): inertia, damping and loads, scaled together by scale",
                *[p.line() for p in self.macro],
                "micro-control (sections 3.2, 4): the weights of the energy (13)",

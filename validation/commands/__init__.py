@@ -25,6 +25,8 @@ COMMANDS = {
     "run": ("validation.commands.run", "run a scene and write an XDMF time series (ParaView)"),
     "params": ("validation.commands.params", "a scene's parameters: macro and micro groups in SI units, the stable "
                "step, the bending length against the grid"),
+    "view": ("validation.commands.view", "run a scene in a window, the paper's macro and micro parameters as "
+             "sliders"),
     "check": ("validation.commands.check", "check that a scene's rest state is a surface (section 3.2, eq. (10))"),
     "validate": ("validation.commands.validate", "run validation studies and write reports"),
     "bench": ("validation.commands.bench", "time the time step of each backend"),
