@@ -32,6 +32,7 @@ from ..physics.force_models import ForceModel
 from ..physics.material import Material
 from ..registry import Registered
 from ..scene.scene import Scene
+from .rest_shapes import from_table as rest_shape_from_table
 
 __all__ = ["SceneConfig"]
 
@@ -84,6 +85,10 @@ class SceneConfig(Registered, family="scene"):
         rest shape. (1 / R, 0) is a cylinder of radius R along a2, a sheet that
         curls back into it; both non-zero on a flat metric is no surface at
         all (eq. (10): ``deformable check`` says so, and the Scene warns).
+    rest_shape : dict or None
+        A named rest surface instead (:mod:`.rest_shapes`: ``{kind = "sphere", radius = 2.0}``, "cylinder",
+        "saddle", or "height" with a grid of heights z): its G0 and B0 as the rest metric and curvature;
+        exclusive with ``rest_metric`` and ``rest_curvature``.
     obstacles : tuple of Obstacle
         Obstacles besides the scene's own (scene files: ``[[obstacles]]`` tables).
     contact : Contact or None
@@ -106,6 +111,7 @@ class SceneConfig(Registered, family="scene"):
     beta: float = 0.0
     rest_metric: tuple = (1.0, 1.0)
     rest_curvature: tuple = (0.0, 0.0)
+    rest_shape: dict | None = None
     obstacles: tuple = ()
     contact: Contact | None = None
     #: fields that must be positive, and non-negative (subclasses add theirs)
@@ -134,6 +140,8 @@ class SceneConfig(Registered, family="scene"):
                 tables = [value] if isinstance(value, (dict, Obstacle)) else list(value)
                 object.__setattr__(self, f.name, tuple(obstacle_from_table(t, f"scene field obstacles[{k}]")
                                                        for k, t in enumerate(tables)))
+            elif f.name == "rest_shape":
+                continue  # checked below, once size is
             elif f.name == "contact":
                 if value is not None:
                     object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
@@ -185,6 +193,11 @@ class SceneConfig(Registered, family="scene"):
                 raise InputError(f"scene fields scale and {name}: scale * {name} = {self.scale!r} * "
                                  f"{getattr(self, name)!r} is not a finite number", field=name,
                                  value=getattr(self, name))
+        if self.rest_shape is not None:
+            if self.rest_metric != (1.0, 1.0) or self.rest_curvature != (0.0, 0.0):
+                raise InputError("scene field rest_shape names the rest surface; it cannot be given with rest_metric "
+                                 "or rest_curvature", field="rest_shape", value=self.rest_shape)
+            object.__setattr__(self, "rest_shape", rest_shape_from_table(self.rest_shape, self.size).table)
         direct = self._weights_given()
         if direct and not (self.alpha > 0 or self.beta > 0):
             raise InputError(f"scene fields alpha and beta: the {self.force_model} force model needs alpha > 0 or "
@@ -209,6 +222,9 @@ class SceneConfig(Registered, family="scene"):
         """Keyword arguments of Scene common to every scene (force model, rest metric and curvature, name)."""
         G0 = None if self.rest_metric == (1.0, 1.0) else np.diag(self.rest_metric)
         B0 = None if self.rest_curvature == (0.0, 0.0) else np.diag(self.rest_curvature)
+        if self.rest_shape is not None:
+            patch = rest_shape_from_table(self.rest_shape, self.size)
+            G0, B0 = patch.metric, patch.curvature
         return dict(force_model=self.force_model, rest_metric=G0, rest_curvature=B0, name=self.scene,
                     obstacles=self.obstacles, contact=self.contact)
 

@@ -1,9 +1,12 @@
-r"""``deformable check SCENE|FILE.toml [--grid MxN] [--rtol R]``: is the scene's rest state a surface?
+r"""``deformable check SCENE|FILE.toml [KEY=VALUE ...] [--grid MxN] [--rtol R]``: is the scene's rest state a surface?
 
 The paper's compatibility test (section 3.2, eq. (10);
 :func:`deformable.check_rest_state`) on the scene's rest metric G0 and
-curvature B0: the rest shape's, or the scene file's ``rest_metric``
-override. At every point it compares (r_11)_2 with (r_12)_1 and (r_22)_1
+curvature B0: the rest shape's, the scene file's ``rest_metric`` and
+``rest_curvature`` override, or a named ``rest_shape`` (a sphere, a cylinder,
+a saddle, a height field: :mod:`deformable.scenes.rest_shapes`), with
+KEY=VALUE overrides as ``run`` takes them (``rest_shape={kind="sphere",
+radius=2}``). At every point it compares (r_11)_2 with (r_12)_1 and (r_22)_1
 with (r_12)_2, computed from G0 and B0 alone, by the ratio of their
 magnitudes and the cosine of their angle (both within ``rtol`` of one);
 where a compared vector vanishes (a plane, a cylinder) the ratio and the
@@ -25,13 +28,16 @@ from deformable.errors import IncompatibleRestState, InputError
 from deformable.geometry.compatibility import check_rest_state
 from deformable.scenes import build
 
-from .run import parse_grid, scene_config
+from .run import parse_grid, parse_overrides, scene_config
 
 __all__ = ["configure", "execute"]
 
 
 def configure(parser) -> None:
     parser.add_argument("scene", metavar="SCENE|FILE.toml", help="a scene name or a TOML scene file")
+    parser.add_argument("overrides", metavar="KEY=VALUE", nargs="*", default=[],
+                        help="set a field of the scene's config, e.g. rest_curvature=[2,0] or "
+                        "'rest_shape={kind=\"sphere\", radius=2}' (values are TOML; default: none)")
     parser.add_argument("--grid", default=None, metavar="MxN",
                         help="points of the test (default: the scene's grid, at least 33 a side)")
     parser.add_argument("--rtol", default="0.05", help="tolerance of ratio, cosine and residual (default: 0.05)")
@@ -45,7 +51,7 @@ def execute(args) -> int:
         raise InputError(f"--rtol must be a number in (0, 1), got {args.rtol!r}") from None
     if not (math.isfinite(rtol) and 0 < rtol < 1):
         raise InputError(f"--rtol must be a number in (0, 1), got {args.rtol!r}")
-    cfg = scene_config(args.scene)
+    cfg = scene_config(args.scene, **parse_overrides(args.overrides))
     with warnings.catch_warnings():  # the Scene warns of an incompatible rest state; the command reports it
         warnings.simplefilter("ignore", IncompatibleRestState)
         scene = build(cfg)
