@@ -190,13 +190,13 @@ class Window:
                               scalar_bar_args=dict(title="speed (m/s)\n", vertical=True, position_x=0.9, position_y=0.06,
                                                    height=0.38, width=0.05, color="black", n_labels=3,
                                                    fmt="%.2g"))
-        from deformable.io.render import _camera, obstacle_mesh
+        from deformable.io.render import camera, obstacle_mesh
 
         lo, hi = P.reshape(-1, 3).min(0), P.reshape(-1, 3).max(0)
         pad = 0.3 * float(np.max(hi - lo))
         for obstacle in session.model.scene.obstacles:
             self.plotter.add_mesh(obstacle_mesh(obstacle, np.array([lo, hi])), color="lightgrey", smooth_shading=True)
-        self.plotter.camera_position = _camera(np.array([lo - pad, hi + pad]))
+        self.plotter.camera_position = camera(np.array([lo - pad, hi + pad]))
         self.plotter.set_background("white")
         self.sliders = {}
         for group, knobs, x0 in (("macro-control", MACRO, 0.02), ("micro-control", MICRO, 0.70)):

@@ -186,7 +186,9 @@ class Compatibility:
         Every quantity of the test (third derivatives, curvatures, Codazzi residuals, scales) is finite; when
         not, the test is not computable in double precision and ``compatible`` is False (module docstring).
     fields : dict
-        Residual fields (M', N') over the checked points: "gauss", "codazzi1", "codazzi2".
+        Fields (M', N') over the checked points (the grid less ``margin`` rows a side): the residuals "gauss",
+        "codazzi1", "codazzi2", and the paper's "ratio1", "cosine1" ((r_11)_2 vs (r_12)_1) and "ratio2",
+        "cosine2" ((r_22)_1 vs (r_12)_2), NaN at the guarded points.
     """
 
     comparisons: dict
@@ -285,8 +287,8 @@ def _check_compatibility(G, B, h, margin, rtol, guard) -> Compatibility:
     # an overflow or a 0/0 anywhere makes the test meaningless (an infinite scale guards every point)
     finite = bool(np.isfinite(scale)
                   and all(np.all(np.isfinite(a[..., inner[0], inner[1]])) for a in (T, K_G, K_B, c1, c2)))
-    comparisons, mismatch, guarded = {}, 0.0, np.zeros(gauss.shape, bool)
-    for k, (u, v) in pairs.items():
+    comparisons, mismatch, guarded, pointwise = {}, 0.0, np.zeros(gauss.shape, bool), {}
+    for number, (k, (u, v)) in enumerate(pairs.items(), start=1):
         nu, nv = norms[k]
         diff = _frame_norm(u - v, G)[inner] / scale if scale > 0 else np.zeros(nu.shape)
         mismatch = max(mismatch, float(diff.max()))
@@ -295,9 +297,11 @@ def _check_compatibility(G, B, h, margin, rtol, guard) -> Compatibility:
         residual = float(diff[~ok].max()) if (~ok).any() else 0.0
         ratio = cosine = None
         passed = finite and residual <= rtol
+        pointwise[f"ratio{number}"] = np.where(ok, nu / np.where(ok, nv, 1.0), np.nan)
+        pointwise[f"cosine{number}"] = np.where(ok, _frame_dot(u, v, G)[inner] / np.where(ok, nu * nv, 1.0), np.nan)
         if ok.any():
-            r = (nu / np.where(ok, nv, 1.0))[ok]
-            c = (_frame_dot(u, v, G)[inner] / np.where(ok, nu * nv, 1.0))[ok]
+            r = pointwise[f"ratio{number}"][ok]
+            c = pointwise[f"cosine{number}"][ok]
             far = int(np.argmax(np.abs(np.log(r))))
             ratio = (float(r[far]), float(np.median(r)))
             cosine = (float(c.min()), float(np.median(c)))
@@ -311,7 +315,7 @@ def _check_compatibility(G, B, h, margin, rtol, guard) -> Compatibility:
         codazzi=(float(np.abs(c1[inner]).max()), float(np.abs(c2[inner]).max())),
         gauss_relative=gauss_max / kscale if kscale > 0 else 0.0, mismatch_relative=mismatch,
         guarded=float(guarded.mean()), rtol=rtol, finite=finite,
-        fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner]},
+        fields={"gauss": gauss, "codazzi1": c1[inner], "codazzi2": c2[inner], **pointwise},
     )
     log.debug("compatibility: %s", out.summary())
     return out

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["render_series", "render_frame", "read_series", "obstacle_mesh", "offscreen_pyvista", "FIELDS", "TITLES"]
+__all__ = ["render_series", "render_frame", "read_series", "obstacle_mesh", "offscreen_pyvista", "camera", "FIELDS", "TITLES"]
 
 log = logging.getLogger(__name__)
 
@@ -55,7 +55,7 @@ def _faces(cells: np.ndarray) -> np.ndarray:
     return np.hstack([np.full((cells.shape[0], 1), cells.shape[1]), cells]).ravel()
 
 
-def _camera(bounds: np.ndarray):
+def camera(bounds: np.ndarray):
     """A camera position (position, focal point, view up) framing an axis-aligned box.
 
     ``bounds`` is (2, 3): min and max corners. The view looks from the front-right,
@@ -182,7 +182,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
             render_frame(plotter, points, faces, np.ravel(v), field, clim, f"{title}  t = {t:.3f} s".strip(), meshes)
-            plotter.camera_position = _camera(bounds)
+            plotter.camera_position = camera(bounds)
             png = out_dir / f"frame-{k:05d}.png"
             plotter.screenshot(str(png))
             written.append(png)

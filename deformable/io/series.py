@@ -14,6 +14,11 @@ point fields
   ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2`` (J/m^2), or the
   density of the scene's energy model
   (:meth:`deformable.physics.ForceModel.density_field`),
+- ``compatibility_ratio``, ``compatibility_cosine``: the paper's compatibility test (section 3.2,
+  eq. (10); :func:`deformable.geometry.check_compatibility`) on the frame's own G and B at the nodes,
+  the ratio |u| / |v| and the cosine of u = (r_11)_2 against v = (r_12)_1, both near 1 where the
+  discrete G and B are coherent; NaN where a compared vector vanishes (the test's guard: a plane, a
+  cylinder), within two nodes of an edge (its differences' margin) and on grids under 6 x 6 nodes,
 - ``displacement``: r - r(start of the run) (m), so readers that keep the
   first geometry (meshio's TimeSeriesReader) recover the positions; a resumed
   run measures it from the original start, not from the resume point.
@@ -60,6 +65,7 @@ import numpy as np
 from ..checks import count, real
 from ..dynamics.trackers import Tracker
 from ..errors import InputError, WriteError
+from ..geometry.compatibility import check_compatibility
 from ..limits import DATASET_BYTES, check_room
 from ..physics.material import TENSORS
 
@@ -105,11 +111,28 @@ class NodeFields:
         stretching, bending = self.model.scene.force_model.density_field(
             self.fields.__getitem__, _components_first(G), self.G0, _components_first(B), self.B0)
         density = stretching + bending
+        ratio, cosine = self.compatibility(G, B)
         return {
             "G11": G[:, 0, 0], "G12": G[:, 0, 1], "G22": G[:, 1, 1],
             "B11": B[:, 0, 0], "B12": B[:, 0, 1], "B22": B[:, 1, 1],
             "speed": np.linalg.norm(vel, axis=1), "energy_density": density,
+            "compatibility_ratio": ratio, "compatibility_cosine": cosine,
         }
+
+    def compatibility(self, G, B, margin: int = 2) -> tuple[np.ndarray, np.ndarray]:
+        """The compatibility test's ratio and cosine at the nodes from G, B (M N, 2, 2): two (M N,) arrays."""
+        M, N = self.nodes
+        ratio, cosine = np.full((M, N), np.nan), np.full((M, N), np.nan)
+        if min(M, N) > 2 * margin + 1:
+            T = [np.moveaxis(np.asarray(X, float).reshape(M, N, 2, 2), (2, 3), (0, 1)) for X in (G, B)]
+            try:
+                test = check_compatibility(T[0], T[1], self.model.scene.sheet.h, margin=margin)
+            except InputError:  # a degenerate frame (G not positive definite): nothing to compare
+                test = None
+            if test is not None:
+                inner = (slice(margin, M - margin), slice(margin, N - margin))
+                ratio[inner], cosine[inner] = test.fields["ratio1"], test.fields["cosine1"]
+        return ratio.ravel(), cosine.ravel()
 
 
 def node_fields(model, X, V) -> dict[str, np.ndarray]:

@@ -189,7 +189,7 @@ def _source(scene: str) -> tuple[str | None, str]:
     return tomlio.read_text(scene, field="scene"), scene
 
 
-def _positive(name: str, text, kind=float):
+def positive(name: str, text, kind=float):
     if text is None:
         return None
     try:
@@ -299,11 +299,11 @@ def prepare(args) -> Run:
     if args.field not in FIELDS:
         raise InputError(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
                      value=args.field)
-    dt = _positive("dt", args.dt)
-    steps = _positive("steps", args.steps, int)
-    t_end = _positive("t-end", args.t_end)
-    every = _positive("every", args.every)
-    ck_every = _positive("checkpoint-every", args.checkpoint_every, int)
+    dt = positive("dt", args.dt)
+    steps = positive("steps", args.steps, int)
+    t_end = positive("t-end", args.t_end)
+    every = positive("every", args.every)
+    ck_every = positive("checkpoint-every", args.checkpoint_every, int)
     cfg, table, fields_, checkpoint, backend, scene, model = resolve(args, dt)
     stepper = TimeStepper(model, cfg.dt, scheme=args.scheme or table.get("scheme"))
 
@@ -333,7 +333,7 @@ def prepare(args) -> Run:
     t_now = 0.0 if run.start is None else run.start.t
     step_now = 0 if run.start is None else run.start.step
     if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
-        steps = _positive("steps", table["steps"], int)  # a resolved config of a run given --steps
+        steps = positive("steps", table["steps"], int)  # a resolved config of a run given --steps
     if steps is not None:
         if steps <= step_now:
             raise InputError(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
@@ -348,7 +348,7 @@ def prepare(args) -> Run:
         cfg = cfg.replace(t_end=t_end)
         run.steps, run.t_end = None, t_end
     stepper.length(t_now, steps=run.steps, t_end=run.t_end)  # a bad length or one beyond the cap, before any work
-    run.every = every if every is not None else _positive("every", table.get("every", DEFAULT_EVERY))
+    run.every = every if every is not None else positive("every", table.get("every", DEFAULT_EVERY))
     run.ck_every = ck_every
     run.render, run.field = args.render, args.field
     run.config, run.scene, run.model, run.stepper, run.X0, run.backend = cfg, scene, model, stepper, X0, backend

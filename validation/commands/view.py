@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from argparse import Namespace
 
-from .run import _positive, resolve
+from .run import positive, resolve
 
 __all__ = ["configure", "execute"]
 
@@ -34,8 +34,8 @@ def execute(args) -> int:
     from deformable.errors import InputError
     from validation.viewer import Session, Window
 
-    fps = _positive("fps", args.fps)
-    frames = None if args.frames is None else _positive("frames", args.frames, int)
+    fps = positive("fps", args.fps)
+    frames = None if args.frames is None else positive("frames", args.frames, int)
     if args.offscreen and frames is None:
         raise InputError("--offscreen needs --frames N (how many frames to run without a window)", field="--frames",
                          value=None)

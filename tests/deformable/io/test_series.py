@@ -10,7 +10,8 @@ from deformable.io import NodeFields, XDMFWriter, node_fields
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 
-FIELDS = {"G11", "G12", "G22", "B11", "B12", "B22", "speed", "energy_density"}
+FIELDS = {"G11", "G12", "G22", "B11", "B12", "B22", "speed", "energy_density", "compatibility_ratio",
+          "compatibility_cosine"}
 
 
 @pytest.mark.parametrize("backend", ["fd", "fe"])
@@ -53,3 +54,42 @@ def test_a_run_writes_frames_that_meshio_reads_back(tmp_path):
                                rtol=0, atol=1e-15)
     with pytest.raises(ValueError, match="every must be a positive integer"):
         XDMFWriter(tmp_path / "x.xdmf", every=0)
+
+
+def _cap_fields(backend, force_model, n, R=2.0):
+    def cap(a1, a2):
+        return np.stack([a1, a2, R - np.sqrt(R * R - (a1 - 0.5) ** 2 - (a2 - 0.5) ** 2)], axis=-1)
+
+    sheet = dm.Sheet(size=(1.0, 1.0), nodes=(n, n), rest=cap)
+    model = make_model(dm.Scene(sheet, dm.Material(eta=np.ones((2, 2)), xi=0.1 * np.ones((2, 2))),
+                                force_model=force_model), backend)
+    X0 = model.initial_state()
+    f = node_fields(model, X0, np.zeros_like(X0))
+    return (f[k].reshape(n, n) for k in ("compatibility_ratio", "compatibility_cosine"))
+
+
+@pytest.mark.parametrize("backend, force_model, order, finest", [
+    ("fd", "tpbf87", 1, 0.1),       # eq. (18)-(19): forward differences, first order at the nodes
+    ("fd", "variational", 2, 1e-3),  # the energy's tensors, centred, second order
+])
+def test_the_compatibility_fields_converge_at_the_order_of_the_tensors(backend, force_model, order, finest):
+    """On a sphere's cap at rest the paper's ratio tends to 1 as the discrete G, B do to the surface's: |ratio - 1|
+    at the resolved points falls at the order of the backend's node tensors."""
+    from validation.harness.orders import fit_order
+
+    nodes = (13, 25, 49)
+    err = [np.nanmax(np.abs(next(_cap_fields(backend, force_model, n)) - 1)) for n in nodes]
+    p = fit_order(1.0 / (np.array(nodes) - 1), np.array(err))
+    assert order - 0.3 <= p <= order + 0.3 and err[-1] <= finest, (p, err)
+
+
+@pytest.mark.parametrize("backend", ["fd", "fe"])
+def test_the_compatibility_fields_are_nan_where_the_test_is_undefined(backend):
+    """Within the test's two-node margin, where a compared vector vanishes (the cap's middle line a2 = 1/2, a band
+    the guard leaves out), and on a grid too small for the test: NaN; elsewhere a cosine near 1."""
+    ratio, cosine = _cap_fields(backend, "variational", 13)
+    resolved = np.isfinite(ratio[2:11, 2:11])
+    assert 0 < resolved.mean() < 1 and np.all(np.isnan(ratio[:2])) and np.all(np.isnan(cosine[:, -2:]))
+    assert np.nanmin(cosine) > 0.99
+    small = make_model(dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(5, 5)), dm.Material(eta=1.0)), backend)
+    assert np.all(np.isnan(node_fields(small, small.initial_state(), np.zeros((small.ndof, 3)))["compatibility_ratio"]))
