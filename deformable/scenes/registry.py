@@ -120,7 +120,7 @@ def paper(nodes=None, **fields_) -> Scene:
 
 
 def flag(nodes=None, **fields_) -> Scene:
-    """The flag of Figs 7-8: pole edge pinned, coils on the free corners, wind along the flag (:class:`FlagConfig`)."""
+    """The flag of Figs 7-8: pole edge pinned, coils beside the pole, wind and its pull along the flag (:class:`FlagConfig`)."""
     return SCENES["flag"](nodes, **fields_)
 
 

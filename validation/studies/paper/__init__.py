@@ -152,9 +152,10 @@ def fill(res, levels: int, runner) -> None:
     res.tables.insert(0, Table("claims", "Claims of the paper and what was measured",
                                ("claim", "section", "measured", "verdict"), [c.row() for c in claims],
                                note="One row per claim; the sections below give the runs. A verdict is computed: "
-                                    "'holds' when the claim as written holds on the measurements, 'holds with a "
-                                    "correction' when it does not but the corrected statement is what the checks "
-                                    "show; no verdict when a check of the claim failed. Grids: FD "
+                                    "'holds' when the claim as written holds on the measurements for every case "
+                                    "it states; 'false' when it fails for any of them, with the narrower condition "
+                                    "under which the measurements show it true ('holds only ...'); 'not judged' "
+                                    "for pictures; no verdict when a check of the claim failed. Grids: FD "
                                     f"{s['fd']} x {s['fd']} nodes, FE {s['fe'] - 1} x {s['fe'] - 1} elements."))
     res.data["claims"] = [dict(statement=c.statement, literal=c.literal, checks=list(c.checks), verdict=c.verdict)
                           for c in claims]

@@ -218,11 +218,34 @@ def shipped_dt(cfg, model) -> float:
     return min(cfg.dt, round_down(0.5 * model.stable_step()))  # no bound (inf) where alpha is not lagged
 
 
+def _compatibility(model, X) -> tuple[float, float, float]:
+    """The paper's compatibility test (eq. (10)) on the state's own G and B at the nodes: the worst ratio |u| / |v|
+    (farthest from 1) and the smallest cosine over both comparisons' resolved points (NaN where none is), and
+    the fraction of points resolved."""
+    from deformable.geometry import check_compatibility
+
+    G, B = model.tensors(X)
+    try:
+        test = check_compatibility(G, B, model.scene.sheet.h)
+    except dm.InputError:  # a state whose G is no longer positive definite (a diverging run): nothing to test
+        return math.nan, math.nan, 0.0
+    r = np.concatenate([test.fields[f"ratio{k}"].ravel() for k in (1, 2)])
+    c = np.concatenate([test.fields[f"cosine{k}"].ravel() for k in (1, 2)])
+    ok = np.isfinite(r)
+    if not ok.any():
+        return math.nan, math.nan, 0.0
+    worst = r[ok][int(np.argmax(np.abs(np.log(r[ok]))))]
+    return float(worst), float(c[ok].min()), float(ok.mean())
+
+
 def _run_shipped(case: Case) -> dict:
     """A shipped scene (:func:`deformable.scenes.config`, not the paper's overrides), recorded for section 5.
 
     Every ``SAMPLE_EVERY`` s: y along the fold rows (curtain scenes; ``ROWS``, ``SAMPLES`` points
-    a grid spacing). Every step, for the flag: y along the middle row. At ``case.times``: the surface for a
+    a grid spacing) and the median and largest fibre stretch (every grid segment against its rest length,
+    :meth:`deformable.Sheet.fibre_stretch`; ``stretch``: (t, median, largest) tuples); every scene: the
+    compatibility test on the state's own G and B (``compatibility``: (t, worst ratio, smallest cosine,
+    fraction resolved) tuples, :func:`_compatibility`). Every step, for the flag: y along the middle row. At ``case.times``: the surface for a
     picture; with ``case.every`` > 0: a frame for the animation every ``case.every`` steps.
     """
     cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **dict(case.fields))
@@ -234,7 +257,7 @@ def _run_shipped(case: Case) -> dict:
     heights = np.array(ROWS if case.scene in FOLD_SCENES else (0.5,)) * L2
     where = np.stack(np.meshgrid(a1, heights, indexing="ij"), axis=-1).reshape(-1, 2)
     sample_every = max(1, int(round(SAMPLE_EVERY / dt)))
-    rec = dict(G=1.0, rows=[], t=[], line=[], line_t=[], renders={}, frames=[])
+    rec = dict(G=1.0, rows=[], t=[], line=[], line_t=[], renders={}, frames=[], stretch=[], compatibility=[])
     pending = sorted(case.times)
 
     def rows_y(X):
@@ -250,6 +273,10 @@ def _run_shipped(case: Case) -> dict:
             if case.scene in FOLD_SCENES:
                 rec["rows"].append(rows_y(state.X))
                 rec["t"].append(state.t)
+                s1, s2 = model.scene.sheet.fibre_stretch(model.grid(state.X))  # every grid segment's strain
+                both = np.concatenate([s1.ravel(), s2.ravel()])
+                rec["stretch"].append((state.t, float(np.median(both)), float(both.max())))
+            rec["compatibility"].append((state.t, *_compatibility(model, state.X)))
         if case.every and state.step % case.every == 0:
             rec["frames"].append((state.t, _render_points(model, state.X, refine=2)))
         while pending and state.t >= pending[0] - 0.5 * dt:
@@ -264,7 +291,8 @@ def _run_shipped(case: Case) -> dict:
         logger.setLevel(level)
     return dict(status=result.status, t=result.state.t, steps=result.steps, dt=dt, h=model.spacing[0], Gmax=rec["G"],
                 a=a1, heights=heights, rows=np.array(rec["rows"]), rows_t=np.array(rec["t"]), line=np.array(rec["line"]),
-                line_t=np.array(rec["line_t"]), renders=rec["renders"], frames=rec["frames"],
+                line_t=np.array(rec["line_t"]), renders=rec["renders"], frames=rec["frames"], stretch=rec["stretch"],
+                compatibility=rec["compatibility"],
                 config=dict(xi=cfg.xi, mu=cfg.mu, scale=cfg.scale, g=cfg.g, size=cfg.size, force_model=cfg.force_model,
                             frequency=getattr(cfg, "frequency", math.nan), draw_time=getattr(cfg, "draw_time", math.nan),
                             ramp=getattr(cfg, "ramp", math.nan)))

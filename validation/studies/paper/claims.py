@@ -4,6 +4,11 @@ The verdict of a :class:`Claim` is never written by hand: ``literal`` says
 whether the paper's statement, as written, holds on the measured runs; the
 claim's checks (the study's stated expectations, PASS/FAIL in the report)
 must all pass for any verdict to be given; a claim without checks has none.
+
+A claim that fails for any case it states is *false*, whatever else holds; its
+``holds_when`` names the narrower condition under which the measurements show
+it true ("false as stated; holds only ..."). A claim the code cannot judge
+(pictures, to be judged by eye) has ``literal=None`` and the verdict says so.
 """
 
 from __future__ import annotations
@@ -21,20 +26,22 @@ class Claim:
     ----------
     statement, section : the paper's claim and where it is made
     measured : what the runs gave, in numbers
-    literal : bool
-        The claim, as the paper states it, holds on the measurements.
+    literal : bool or None
+        The claim, as the paper states it, holds on the measurements, for every case it states; None when no
+        measurement can judge it (pictures).
     checks : tuple of bool
         The outcomes of the study's checks of this claim (:func:`checks_of`).
-    correction : str
-        What the measurements show instead, when the literal claim does not hold (verified by the checks).
+    holds_when : str
+        When the literal claim is false: the condition under which the measurements (and the checks) show it
+        true, phrased to follow "holds only ...".
     """
 
     statement: str
     section: str
     measured: str
-    literal: bool
+    literal: bool | None
     checks: tuple = ()
-    correction: str = ""
+    holds_when: str = ""
 
     @property
     def verdict(self) -> str:
@@ -42,9 +49,11 @@ class Claim:
             return "not measured (no check)"
         if not all(self.checks):
             return f"not shown ({sum(not c for c in self.checks)} of {len(self.checks)} checks failed)"
+        if self.literal is None:
+            return "not judged: pictures only, to be judged by eye"
         if self.literal:
             return "holds"
-        return f"holds with a correction: {self.correction}" if self.correction else "does not hold"
+        return f"false as stated; holds only {self.holds_when}" if self.holds_when else "false"
 
     def row(self) -> tuple:
         return (self.statement, self.section, self.measured, self.verdict)

@@ -1,9 +1,9 @@
 r"""The flag (section 5, Figs 7-8): does it wave, and which way do its waves travel?
 
 The paper's flag is driven by "a coil force on one side"; the shipped scene
-(:func:`deformable.scenes.flag`) pins the pole edge a1 = 0, pulls the two free
-corners with coils towards anchors that swing across the flag at f = 6 Hz, and
-blows wind along it. A flag *waves* when the motion across it, y, is a
+(:func:`deformable.scenes.flag`) pins the pole edge a1 = 0, shakes the flag
+next to the pole with two coils whose anchors swing across it at f = 6 Hz,
+blows wind across its folds and pulls it out along the flow. A flag *waves* when the motion across it, y, is a
 travelling wave: the phase of its driving-frequency component changes along
 the flag. A flag that only flaps moves in phase everywhere.
 
@@ -36,10 +36,12 @@ from .cases import scene_grids
 from .claims import Claim, checks_of
 from .pictures import panels_figure
 
-__all__ = ["AMPLITUDE_FLOOR", "driving_component", "phase_along", "PhaseProfile", "window", "run_phase", "measure"]
+__all__ = ["AMPLITUDE_FLOOR", "AMPLITUDE_TIP", "driving_component", "phase_along", "PhaseProfile", "window", "run_phase", "measure"]
 
 #: sample points whose driving amplitude is below this fraction of the row's largest are left out of the phase
 AMPLITUDE_FLOOR = 0.1
+#: the waves' amplitude at the free edge, at least this fraction of the flag's length (issue 29)
+AMPLITUDE_TIP = 0.1
 
 
 @dataclass(frozen=True)
@@ -120,9 +122,10 @@ def run_phase(r: dict, t_end: float) -> PhaseProfile | None:
 def measure(res, R: dict, s: dict) -> list:
     """Section 5 (Figs 7-8): the phase of the driving component along the flag, both backends and force models.
 
-    Check: a travelling wave, the phase changing by more than pi from pole to tip, on both backends (the
-    shipped flag, energy-consistent model). Reported: the phase speed and direction; the paper's force as a
-    finding.
+    Checks (the shipped flag, energy-consistent model, both backends): a travelling wave, the phase changing
+    by more than pi from pole to tip; travelling from the pole to the free edge (the phase lag increasing
+    along the flag), as a real flag's waves do; its amplitude at the free edge at least :data:`AMPLITUDE_TIP`
+    of the flag's length (Figs 7-8's large waves). Reported: the phase speed; the paper's force as a finding.
     """
     from validation.harness.backends import BACKENDS
     from validation.harness.study import Figure, Table
@@ -144,8 +147,8 @@ def measure(res, R: dict, s: dict) -> list:
         "flag", "Section 5 (Figs 7-8): the flag's wave, phase of the driving component along the middle row",
         ("backend", "grid", "force model", "class", "t reached (s)", "phase change pole to tip (rad)",
          "phase speed (m/s)", "wave travels", "largest amplitude (m)"), rows,
-        note=f"The shipped flag (deformable.scenes.flag: coils swinging at {cfg['frequency']:g} Hz on the free side, "
-             f"wind along the flag), y along a2 = L2 / 2 fitted over t = {lo:g} .. {hi:g} s with c0 + c1 t + a cos(w t) "
+        note=f"The shipped flag (deformable.scenes.flag: coils swinging at {cfg['frequency']:g} Hz beside the pole, "
+             f"wind and the flow's pull along the flag), y along a2 = L2 / 2 fitted over t = {lo:g} .. {hi:g} s with c0 + c1 t + a cos(w t) "
              "+ b sin(w t) at each point; phase lag unwrapped from the pole over the points with at least "
              f"{AMPLITUDE_FLOOR:.0%} of the largest amplitude; phase speed w / |d phi / d a1| (m/s along the flag; "
              "module docstring of validation.studies.paper.flag)."))
@@ -154,6 +157,19 @@ def measure(res, R: dict, s: dict) -> list:
                   {f"{b.upper()} ({abs(P[(b, 'variational')].change):.2f} rad)" if P[(b, "variational")] else
                    f"{b.upper()} (run did not finish)": bool(P[(b, "variational")]) and
                    abs(P[(b, "variational")].change) > math.pi for b in BACKENDS})
+    res.check_all("section 5, flag: the waves travel from the pole to the free edge",
+                  "the phase lag increases from pole to tip (a wave cos(w t - k a1), k > 0; energy-consistent model)",
+                  {f"{b.upper()} ({P[(b, 'variational')].direction}, {P[(b, 'variational')].speed:.2f} m/s)"
+                   if P[(b, "variational")] else f"{b.upper()} (run did not finish)":
+                   bool(P[(b, "variational")]) and P[(b, "variational")].direction == "towards the tip"
+                   for b in BACKENDS})
+    length = cfg["size"][0]
+    res.check_all(f"section 5, flag: waves at least {AMPLITUDE_TIP:g} of the flag's length at its free edge",
+                  f"the driving component's amplitude at the tip >= {AMPLITUDE_TIP:g} L1 = {AMPLITUDE_TIP * length:g} m "
+                  "(energy-consistent model)",
+                  {f"{b.upper()} ({P[(b, 'variational')].amplitude[-1]:.3f} m)" if P[(b, "variational")] else
+                   f"{b.upper()} (run did not finish)": bool(P[(b, "variational")]) and
+                   P[(b, "variational")].amplitude[-1] >= AMPLITUDE_TIP * length for b in BACKENDS})
     res.data["flag"] = {f"{b}|{fm}": (dict(change=p.change, speed=p.speed, direction=p.direction,
                                           a=p.a, phase=p.phase, amplitude=p.amplitude) if p else None)
                         for (b, fm), p in P.items()}
@@ -162,8 +178,9 @@ def measure(res, R: dict, s: dict) -> list:
             f"{b.upper()} {fm}: " + (f"phase change {p.change:+.2f} rad, phase speed {p.speed:.2f} m/s {p.direction}"
                                      if p else f"{classify(R[('flag', b, fm)])}, not measured")
             for (b, fm), p in P.items())
-        + ". The coils drive the free side, so the waves travel from the tip towards the pole (a real flag's come "
-          "from the flow and travel to its free edge; deformable.scenes, 'flag').")
+        + ". The coils shake the flag beside the pole and the flow's pull puts it in a tension that falls to nothing "
+          "at the free edge: the waves travel from the pole to the free edge, slowing and growing on the way "
+          "(deformable.scenes, 'flag').")
     style = {"fd": "tab:blue", "fe": "tab:orange"}
     phase_lines, amp_lines = [], []
     for (b, fm), p in P.items():
@@ -173,8 +190,8 @@ def measure(res, R: dict, s: dict) -> list:
         phase_lines.append(dict(x=p.a, y=p.phase, style=st, color=style[b], label=f"{b.upper()} {fm}"))
         amp_lines.append(dict(x=p.a, y=p.amplitude, style=st, color=style[b], label=f"{b.upper()} {fm}"))
     res.figures.append(Figure("flag_phase", "Section 5: the flag's driving component along the middle row, pole (0) "
-                              "to tip: phase lag (left; decreasing towards the tip = a wave travelling towards the "
-                              "pole) and amplitude (right)",
+                              "to tip: phase lag (left; increasing towards the tip = a wave travelling towards the "
+                              "tip) and amplitude (right)",
                               image=panels_figure([
                                   dict(title=f"phase lag of the {cfg['frequency']:g} Hz component", xlabel="a1 (m)",
                                        ylabel="phi (rad)", lines=phase_lines),
@@ -189,4 +206,4 @@ def measure(res, R: dict, s: dict) -> list:
                                                              f"{b.upper()} not measured" for b, p in zip(BACKENDS, paper)),
                   literal=all(p is not None and abs(p.change) > math.pi for p in paper),
                   checks=checks_of(res, "section 5, flag"),
-                  correction="under the energy-consistent force; the paper's force does not give it on both backends")]
+                  holds_when="under the energy-consistent force; the paper's force (14) does not give it on both backends")]

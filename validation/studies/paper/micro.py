@@ -105,7 +105,7 @@ def measure(res, R, s) -> list[Claim]:
                   f"peak |G12| of the hanging sheet {shear['fd'][0]:.3f} -> {shear['fd'][1]:.3f} (FD), "
                   f"{shear['fe'][0]:.3f} -> {shear['fe'][1]:.3f} (FE) with eta_12 = eta",
                   literal=same_shear, checks=checks_of(res, "claim 2a"),
-                  correction="it leaves in-plane shear free (equilibria not unique)"),
+                  holds_when="for motions without in-plane shear: eta_12 = 0 leaves it free (its equilibria not unique)"),
             Claim("alpha, beta given directly induce a residual elastic energy; eta, xi do not", "3.2",
                   f"frozen alpha = 1, flat sheet at rest: E = {fa['stretching']:.3g} J, edges pulled in "
                   f"{fa['displacement']:.2g} m in {FROZEN['t_end']:g} s; eta/xi: E = {fx['stretching']:.0f}, "

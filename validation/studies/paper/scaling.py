@@ -65,4 +65,4 @@ def measure(res, R, s) -> list[Claim]:
                   f"a = b = c = {SCALE:g} with eta fixed: {aaa['fd']:.2f} (FD), {aaa['fe']:.2f} (FE); "
                   f"other triples >= {min(worst.values()):.2f}",
                   literal=max(worst.values()) < VISIBLE, checks=checks_of(res, "claim 1,"),
-                  correction="only a = b = c with eta, xi scaled by a too (or a change of time unit)")]
+                  holds_when="for a = b = c with eta, xi scaled by a too (or a change of time unit)")]
