@@ -285,7 +285,8 @@ class Window:
         wall time (s) the frames took."""
         start = time.perf_counter()
         if frames is not None:
-            self.plotter.show(auto_close=False, interactive=False) if not self.plotter.off_screen else None
+            if not self.plotter.off_screen:  # a real window opens before its first frame
+                self.plotter.show(auto_close=False, interactive=False)
             for _ in range(frames):
                 self.frame()
         else:

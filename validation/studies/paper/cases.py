@@ -218,13 +218,13 @@ def shipped_dt(cfg, model) -> float:
     return min(cfg.dt, round_down(0.5 * model.stable_step()))  # no bound (inf) where alpha is not lagged
 
 
-def _compatibility(model, X) -> tuple[float, float, float]:
-    """The paper's compatibility test (eq. (10)) on the state's own G and B at the nodes: the worst ratio |u| / |v|
+def _compatibility(model, G, B) -> tuple[float, float, float]:
+    """The paper's compatibility test (eq. (10)) on a state's own G and B at the nodes ((2, 2, M, N) each, as
+    ``model.tensors`` gives them): the worst ratio |u| / |v|
     (farthest from 1) and the smallest cosine over both comparisons' resolved points (NaN where none is), and
     the fraction of points resolved."""
     from deformable.geometry import check_compatibility
 
-    G, B = model.tensors(X)
     try:
         test = check_compatibility(G, B, model.scene.sheet.h)
     except dm.InputError:  # a state whose G is no longer positive definite (a diverging run): nothing to test
@@ -268,7 +268,7 @@ def _run_shipped(case: Case) -> dict:
             rec["line"].append(rows_y(state.X)[0])
             rec["line_t"].append(state.t)
         if state.step % sample_every == 0:
-            G, _ = model.tensors(state.X)
+            G, B = model.tensors(state.X)
             rec["G"] = max(rec["G"], float(max(G[0, 0].max(), G[1, 1].max())))
             if case.scene in FOLD_SCENES:
                 rec["rows"].append(rows_y(state.X))
@@ -276,7 +276,7 @@ def _run_shipped(case: Case) -> dict:
                 s1, s2 = model.scene.sheet.fibre_stretch(model.grid(state.X))  # every grid segment's strain
                 both = np.concatenate([s1.ravel(), s2.ravel()])
                 rec["stretch"].append((state.t, float(np.median(both)), float(both.max())))
-            rec["compatibility"].append((state.t, *_compatibility(model, state.X)))
+            rec["compatibility"].append((state.t, *_compatibility(model, G, B)))
         if case.every and state.step % case.every == 0:
             rec["frames"].append((state.t, _render_points(model, state.X, refine=2)))
         while pending and state.t >= pending[0] - 0.5 * dt:
