@@ -86,7 +86,12 @@ from .scene.scene import Scene
 from .solve.continuation import equilibrium_path
 from .solve.equilibrium import equilibrium
 
-__version__ = "0.1.0"
+try:  # the installed distribution's version: pyproject.toml is its one source
+    from importlib.metadata import PackageNotFoundError, version as _version
+
+    __version__ = _version("deformable")
+except PackageNotFoundError:  # a source tree on sys.path, not installed
+    __version__ = "0+unknown"
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
     "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Pressure", "Gravity",
