@@ -9,6 +9,7 @@ callable. These helpers say each rule once.
 
 from __future__ import annotations
 
+import importlib
 import math
 import numbers
 
@@ -16,7 +17,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys"]
+__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "extra"]
 
 
 def real(field: str, value, *, positive: bool = False, non_negative: bool = False, low: float | None = None,
@@ -109,3 +110,18 @@ def known_keys(table, known, where: str, field: str | None = None) -> None:
         if key not in known:
             raise InputError(f"unknown key {key!r} {where}; known keys: {', '.join(map(str, known))}",
                              field=field or str(key), value=key)
+
+
+def extra(module: str, name: str, needed_by: str):
+    """The optional dependency ``module`` (imported), or an InputError saying in one line how to install it.
+
+    ``name`` is the project's extra that brings it (``render``, ``distributed``, ``fast``, ``docs``, ``peers``:
+    pyproject.toml), ``needed_by`` what asked (``"deformable run --render"``). The core install leaves them out
+    (VTK alone is most of an install's size).
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise InputError(f"{needed_by} needs {module}, which the core install leaves out: pip install "
+                         f"\"deformable[{name}]\" (or \".[{name}]\" in the project folder)", field=needed_by,
+                         value=module) from None

@@ -18,7 +18,7 @@ PACKAGES = ("deformable", "fdmodel", "femodel", "validation")
 #: the core's floors, bottom up: a module may import its own floor's and the floors below, never above
 FLOORS = (
     ("deformable.errors",),
-    ("deformable.checks", "deformable.registry", "deformable.limits", "deformable.tomlio"),
+    ("deformable.checks", "deformable.registry", "deformable.limits", "deformable.tomlio", "deformable.progress"),
     ("deformable.geometry",),
     ("deformable.algebra",),
     ("deformable.physics",),

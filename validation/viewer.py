@@ -34,6 +34,7 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
+from deformable.checks import extra
 from deformable.errors import DivergenceError, InputError, StalledError
 from deformable.geometry import check_compatibility
 
@@ -150,15 +151,12 @@ class Session:
 
 
 def _pyvista(offscreen: bool):
-    try:
-        if offscreen:
-            from deformable.io.render import offscreen_pyvista
+    pyvista = extra("pyvista", "render", "deformable view")
+    if offscreen:
+        from deformable.io.render import offscreen_pyvista
 
-            return offscreen_pyvista()
-        import pyvista
-    except ImportError:
-        raise InputError("deformable view needs pyvista: pip install pyvista") from None
-    if not offscreen and not os.environ.get("DISPLAY"):
+        return offscreen_pyvista()
+    if not os.environ.get("DISPLAY"):
         raise InputError("deformable view: no display (DISPLAY is not set); run it under a desktop or xvfb-run, or "
                          "give --offscreen --frames N --screenshot FILE")
     return pyvista

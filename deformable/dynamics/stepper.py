@@ -47,7 +47,7 @@ import logging
 import time
 import warnings
 from array import array
-from typing import Iterator, Sequence
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 
@@ -62,7 +62,7 @@ from .semi_implicit import SemiImplicit
 from .state import RunResult, State
 from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
 
-__all__ = ["TimeStepper", "SCHEMES", "GROW_AFTER", "TARGET_ITERATIONS", "round_down", "DT_MIN", "MAX_STEPS"]
+__all__ = ["DT_MIN", "GROW_AFTER", "MAX_STEPS", "SCHEMES", "TARGET_ITERATIONS", "TimeStepper", "round_down"]
 
 log = logging.getLogger(__name__)
 #: the built-in schemes (the registry, :class:`Scheme`, knows any other)
@@ -405,7 +405,7 @@ class TimeStepper:
         V0=None,
         t0: float = 0.0,
         trackers: Sequence = (),
-        progress: bool = False,
+        progress: bool | str = False,
         resume: State | None = None,
     ) -> RunResult:
         """Run to ``t_end`` (s) or for ``steps`` steps under a set of trackers.
@@ -413,7 +413,9 @@ class TimeStepper:
         Trackers (see :mod:`deformable.dynamics.trackers`) watch the run at their own
         cadence and may stop it. A :class:`~deformable.dynamics.trackers.DivergenceGuard`
         is added unless one is given; a diverging run stops at that step and
-        the result holds the last good state.
+        the result holds the last good state. ``progress``: True (or a name to
+        start its lines with) adds a :class:`~deformable.dynamics.trackers.ProgressBar`:
+        a bar on a terminal, a timestamped line each tenth of the run elsewhere.
         """
         state = self.start(X0, V0, t0)
         if resume is not None:
@@ -434,7 +436,8 @@ class TimeStepper:
         if not any(isinstance(tr, DivergenceGuard) for tr in trackers):
             trackers.insert(0, DivergenceGuard())
         if progress:
-            trackers.append(ProgressBar())
+            trackers.append(ProgressBar(name=progress if isinstance(progress, str) else "run"))
+        self.t_goal = t_end  # the end of the run in progress (s), or None: read by a ProgressBar
         pending, self._pending = self._pending, {}
         for tr in trackers:
             tr.initialize(state, self, expected)

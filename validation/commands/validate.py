@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import logging
 import os
-import sys
 import time
 
 from deformable.checks import count
@@ -79,8 +78,12 @@ def check_jobs(jobs, oversubscribe: bool = False) -> int:
 
 
 def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None, out="reports", jobs: int = 1,
-        progress: bool = True, oversubscribe: bool = False, scheduler: str | None = None):
+        progress: bool = True, oversubscribe: bool = False, scheduler: str | None = None, finished=None):
     """Run studies and write their reports; returns the list of StudyResult.
+
+    ``finished(result)`` is called as each study's report has been written (``deformable validate`` prints
+    its line then, so that a log shows each study as it ends). ``progress``: the cases of each study, a bar
+    on a terminal and timestamped lines elsewhere (:class:`deformable.progress.Progress`), on stderr.
 
     ``jobs`` local processes (at most the number of cores unless ``oversubscribe``), or ``scheduler``
     (:class:`~validation.harness.runner.Runner`) for Dask. All arguments are checked before anything runs
@@ -109,6 +112,8 @@ def run(names=(), mode: str = "quick", levels: int | None = None, surfaces=None,
             write_study(res, out)
             log.info("study %s: %d passed, %d failed in %.1f s", st.name, res.passed, res.failed, res.wall_time)
             results.append(res)
+            if finished is not None:
+                finished(res)
     write_index(out, STUDIES)
     return results
 
@@ -117,12 +122,14 @@ def execute(args) -> int:
     """Entry point of ``deformable validate``: 0 if every check passed, 1 otherwise."""
     t0 = time.perf_counter()
     quiet = getattr(args, "quiet", False)
-    results = run(args.studies, args.mode, args.levels, args.surfaces, args.out, args.jobs,
-                  progress=sys.stderr.isatty() and not quiet, oversubscribe=args.oversubscribe,
-                  scheduler=args.scheduler)
+
+    def finished(r):
+        if not quiet:
+            print(f"{r.study:14s} {r.passed:4d} passed {r.failed:3d} failed  {r.wall_time:6.1f} s", flush=True)
+
+    results = run(args.studies, args.mode, args.levels, args.surfaces, args.out, args.jobs, progress=not quiet,
+                  oversubscribe=args.oversubscribe, scheduler=args.scheduler, finished=finished)
     passed = sum(r.passed for r in results)
     failed = sum(r.failed for r in results)
-    for r in results if not quiet else ():
-        print(f"{r.study:14s} {r.passed:4d} passed {r.failed:3d} failed  {r.wall_time:6.1f} s")
     print(f"{passed} checks passed, {failed} failed in {time.perf_counter() - t0:.1f} s; reports in {args.out}/")
     return 0 if failed == 0 else 1

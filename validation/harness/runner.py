@@ -53,8 +53,10 @@ them; the runner sets this process's environment back.
 
 Progress (``progress=True``): cases done out of all, the time elapsed and an
 estimate of the time left (the mean time per finished case times the cases
-left, so it counts the workers' parallelism): a tqdm bar on a terminal, one
-line per finished case on a stream that is not one (a batch job's log).
+left, so it counts the workers' parallelism): a tqdm bar on a terminal; on a
+stream that is not one (a batch job's log), a timestamped line each tenth of
+the cases and at least every 30 s while cases finish
+(:class:`deformable.progress.Progress`).
 """
 
 from __future__ import annotations
@@ -62,10 +64,11 @@ from __future__ import annotations
 import logging
 import os
 import sys
-import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import closing, contextmanager
 from typing import Any
+
+from deformable.progress import Progress, counted, duration
 
 __all__ = ["ALLOWED_FAILURES", "DISTRIBUTED_HINT", "Pool", "Progress", "Runner", "counted", "duration",
            "parse_scheduler"]
@@ -196,59 +199,6 @@ def _restore_environ(saved: dict) -> None:
     for name in os.environ.keys() - saved.keys():
         del os.environ[name]
     os.environ.update({name: value for name, value in saved.items() if os.environ.get(name) != value})
-
-
-def duration(seconds: float) -> str:
-    """A duration for people: ``"42 s"``, ``"3 min 20 s"``, ``"2 h 05 min"``."""
-    s = round(seconds)
-    if s < 60:
-        return f"{max(seconds, 0):.0f} s" if seconds >= 10 else f"{max(seconds, 0):.1f} s"
-    if s < 3600:
-        return f"{s // 60} min {s % 60:02d} s"
-    return f"{s // 3600} h {s % 3600 // 60:02d} min"
-
-
-def counted(n: int, noun: str = "case") -> str:
-    """``"1 case"``, ``"3 cases"``."""
-    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
-
-
-class Progress:
-    """Cases done out of ``total``, the time elapsed and an estimate of the time left.
-
-    A tqdm bar when ``stream`` (default stderr) is a terminal; otherwise one line per finished case,
-    ``"<desc>: 5/16 cases done, 12 s elapsed, about 26 s left"``. Silent unless ``enabled``.
-    """
-
-    def __init__(self, total: int, desc: str = "", enabled: bool = True, stream=None):
-        self.total, self.desc, self.enabled = total, desc or "cases", enabled
-        self.stream = sys.stderr if stream is None else stream
-        self.done, self.start = 0, time.perf_counter()
-        self._bar = None
-        if enabled and self.stream.isatty():
-            from tqdm.auto import tqdm
-
-            self._bar = tqdm(total=total, desc=desc, unit="case", leave=False, file=self.stream)
-
-    def left(self) -> float:
-        """Estimated seconds left: the mean wall time per finished case times the cases not finished (inf at 0)."""
-        if self.done == 0:
-            return float("inf")
-        return (time.perf_counter() - self.start) / self.done * (self.total - self.done)
-
-    def update(self) -> None:
-        self.done += 1
-        if self._bar is not None:
-            self._bar.update()
-        elif self.enabled:
-            elapsed = time.perf_counter() - self.start
-            left = "" if self.done == self.total else f", about {duration(self.left())} left"
-            print(f"{self.desc}: {self.done}/{counted(self.total)} done, {duration(elapsed)} elapsed{left}",
-                  file=self.stream, flush=True)
-
-    def close(self) -> None:
-        if self._bar is not None:
-            self._bar.close()
 
 
 def _death(exitcode: int | None) -> str:
@@ -482,17 +432,19 @@ class Runner:
         if not self.active:
             raise RuntimeError("a Runner with workers maps inside `with runner:`")
         cases = list(cases)
-        progress = Progress(len(cases), desc, enabled=self.progress)
+        progress = Progress(len(cases), desc or "cases", enabled=self.progress)
         if self._client is not None:
             finished = self._dask(fn, cases)
         elif self._pool is not None:
             finished = self._pool.completed(fn, cases)
         else:
             finished = self._serial(fn, cases)
+        done = 0
         try:
             for item in finished:
                 yield item
-                progress.update()  # after the caller has taken the result (a sweep has stored it)
+                done += 1  # after the caller has taken the result (a sweep has stored it)
+                progress.update(done, f"{done}/{counted(len(cases))} done")
         finally:
             finished.close()  # now, while the workers are there
             progress.close()

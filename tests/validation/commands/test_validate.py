@@ -38,3 +38,23 @@ def test_unwritable_output_folder_is_one_line_before_any_work(capsys, tmp_path):
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "cannot write to output folder" in err
+
+
+def test_each_studys_line_is_printed_as_it_finishes_not_at_the_end(capsys, tmp_path, monkeypatch):
+    """A log (stdout a file) has a study's line once that study is written, before the next one starts."""
+    import validation.commands.validate as validate
+
+    seen = []
+    real = validate.write_study
+
+    def write_study(res, out):
+        real(res, out)
+        seen.append(capsys.readouterr().out)  # stdout up to the moment this study's report is written
+
+    monkeypatch.setattr(validate, "write_study", write_study)
+    real_index = validate.write_index
+    monkeypatch.setattr(validate, "write_index", lambda *a: seen.append(capsys.readouterr().out) or real_index(*a))
+    assert main(["validate", "statics", "compatibility", "--levels", "3", "--out", str(tmp_path)]) == 0
+    # after the first study's report, nothing yet; the first study's line is out before the second is written
+    assert "statics" not in seen[0] and seen[1].startswith("statics ") and "passed" in seen[1]
+    assert seen[2].startswith("compatibility ")

@@ -226,13 +226,14 @@ def test_jobs_must_be_a_positive_integer(jobs):
 
 
 # -- progress ------------------------------------------------------------------------
-def test_progress_off_a_terminal_is_a_line_per_case_with_the_time_left():
+def test_progress_off_a_terminal_is_a_line_per_tenth_of_the_cases_with_the_time_left():
     stream = io.StringIO()
     progress = Progress(3, "sweep x", stream=stream)
-    for _ in range(3):
-        progress.update()
+    for k in range(1, 4):
+        progress.update(k, f"{k}/3 cases done")
     lines = stream.getvalue().splitlines()
-    assert [line.split(",")[0] for line in lines] == [f"sweep x: {k}/3 cases done" for k in (1, 2, 3)]
+    assert [line.split(" ", 2)[2].split(",")[0] for line in lines] == [
+        f"sweep x: {100 * k / 3:.0f} % ({k}/3 cases done)" for k in (1, 2, 3)]
     assert all("left" in line for line in lines[:2]) and "left" not in lines[2]
 
 

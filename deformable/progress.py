@@ -1,0 +1,116 @@
+r"""Progress for people: a live bar on a terminal, plain timestamped lines in a log.
+
+One class serves every long job of the project, a run's steps
+(:class:`deformable.dynamics.trackers.ProgressBar`, behind ``deformable run``) and a
+study's or a sweep's cases (:class:`validation.harness.runner.Runner`):
+
+- on a terminal, a tqdm bar that redraws itself in place;
+- anywhere else (a pipe, a file, a batch job's log), one line at a steady
+  cadence: each time another tenth of the work is done, and at least every
+  :attr:`Progress.seconds` of wall time while anything moved, each flushed as it
+  is written, so that ``deformable run hanging 2>&1 | cat`` or a job's log
+  shows how far a run is while it runs. A line reads ::
+
+      2026-12-03 11:40:02 hanging: 30 % (t = 0.3 of 1 s, 150 steps, 420 Newton iterations), 9.1 s elapsed, about 21 s left
+
+The estimate of the time left is the wall time per unit of work so far times
+the work left (for a run, simulated seconds; for cases, cases: it counts the
+workers' parallelism).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+__all__ = ["Progress", "counted", "duration"]
+
+
+def duration(seconds: float) -> str:
+    """A duration for people: ``"42 s"``, ``"3 min 20 s"``, ``"2 h 05 min"``."""
+    s = round(seconds)
+    if s < 60:
+        return f"{max(seconds, 0):.0f} s" if seconds >= 10 else f"{max(seconds, 0):.1f} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60:02d} s"
+    return f"{s // 3600} h {s % 3600 // 60:02d} min"
+
+
+def counted(n: int, noun: str = "case") -> str:
+    """``"1 case"``, ``"3 cases"``."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+class Progress:
+    """Work done out of ``total``: a tqdm bar on a terminal, timestamped lines otherwise.
+
+    Parameters
+    ----------
+    total : float
+        The amount of work (cases, steps, simulated seconds: any unit), > 0.
+    desc : str
+        What is being done, the start of every line (``"hanging"``, ``"statics"``).
+    enabled : bool
+        False: silent (``--quiet``).
+    stream : file, optional
+        Where to write (default ``sys.stderr``); a bar only when it is a terminal.
+    fraction : float
+        A line each time another ``fraction`` of the total is done (default 0.1: ten lines a run).
+    seconds : float
+        And a line at least every ``seconds`` of wall time while the work moved (default 30 s).
+    clock : callable
+        The wall clock (``time.perf_counter``; a test's own clock).
+    """
+
+    def __init__(self, total: float, desc: str, *, enabled: bool = True, stream=None, fraction: float = 0.1,
+                 seconds: float = 30.0, clock=time.perf_counter):
+        self.total, self.desc, self.enabled = float(total), desc, enabled
+        self.stream = sys.stderr if stream is None else stream
+        self.fraction, self.seconds, self.clock = fraction, seconds, clock
+        self.done, self.start = 0.0, clock()
+        self._said, self._said_at, self._bar = 0.0, self.start, None
+        if enabled and getattr(self.stream, "isatty", lambda: False)():
+            from tqdm.auto import tqdm
+
+            self._bar = tqdm(total=self.total, desc=desc, leave=False, file=self.stream,
+                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} [{elapsed}<{remaining}]")
+
+    def left(self) -> float:
+        """Estimated seconds left: the wall time per unit of work so far times the work left (inf before any)."""
+        if self.done <= 0:
+            return math.inf
+        return (self.clock() - self.start) / self.done * max(self.total - self.done, 0.0)
+
+    def update(self, done: float, detail: str = "") -> None:
+        """The work done so far is ``done`` (absolute, not an increment); ``detail`` says it in the task's terms."""
+        self.done = min(float(done), self.total)
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.n = self.done
+            self._bar.set_postfix_str(detail, refresh=False)
+            self._bar.refresh()
+            return
+        now = self.clock()
+        step = self.fraction * self.total
+        crossed = math.floor(self.done / step + 1e-9) > math.floor(self._said / step + 1e-9)
+        finished = self.done >= self.total
+        if crossed or finished or (now - self._said_at >= self.seconds and self.done > self._said):
+            self.line(detail, now)
+
+    def line(self, detail: str = "", now: float | None = None) -> None:
+        """Write one timestamped line of where the work stands."""
+        now = self.clock() if now is None else now
+        self._said, self._said_at = self.done, now
+        stamp = time.strftime("%Y-%m-%d %H:%M:%S")
+        share = f"{100 * self.done / self.total:.0f} %" if self.total > 0 else "?"
+        detail = f" ({detail})" if detail else ""
+        left = "" if self.done >= self.total else f", about {duration(self.left())} left"
+        print(f"{stamp} {self.desc}: {share}{detail}, {duration(now - self.start)} elapsed{left}",
+              file=self.stream, flush=True)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
