@@ -7,9 +7,10 @@ study's or a sweep's cases (:class:`validation.harness.runner.Runner`):
 - on a terminal, a tqdm bar that redraws itself in place;
 - anywhere else (a pipe, a file, a batch job's log), one line at a steady
   cadence: each time another tenth of the work is done, and at least every
-  :attr:`Progress.seconds` of wall time while anything moved, each flushed as it
-  is written, so that ``deformable run hanging 2>&1 | cat`` or a job's log
-  shows how far a run is while it runs. A line reads ::
+  :attr:`Progress.seconds` of wall time while anything moved (once ``after``
+  seconds have passed: the runner's cases wait 5 s), each flushed as it is
+  written, so that ``deformable run hanging 2>&1 | cat`` or a job's log shows
+  how far a run is while it runs. A line reads ::
 
       2026-12-03 11:40:02 hanging: 30 % (t = 0.3 of 1 s, 150 steps, 420 Newton iterations), 9.1 s elapsed, about 21 s left
 
@@ -59,15 +60,18 @@ class Progress:
         A line each time another ``fraction`` of the total is done (default 0.1: ten lines a run).
     seconds : float
         And a line at least every ``seconds`` of wall time while the work moved (default 30 s).
+    after : float
+        No line before ``after`` seconds of wall time (default 0): work that ends sooner says nothing (the
+        runner's cases: a study of a few seconds is one summary line, not ten).
     clock : callable
         The wall clock (``time.perf_counter``; a test's own clock).
     """
 
     def __init__(self, total: float, desc: str, *, enabled: bool = True, stream=None, fraction: float = 0.1,
-                 seconds: float = 30.0, clock=time.perf_counter):
+                 seconds: float = 30.0, after: float = 0.0, clock=time.perf_counter):
         self.total, self.desc, self.enabled = float(total), desc, enabled
         self.stream = sys.stderr if stream is None else stream
-        self.fraction, self.seconds, self.clock = fraction, seconds, clock
+        self.fraction, self.seconds, self.after, self.clock = fraction, seconds, after, clock
         self.done, self.start = 0.0, clock()
         self._said, self._said_at, self._bar = 0.0, self.start, None
         if enabled and getattr(self.stream, "isatty", lambda: False)():
@@ -93,6 +97,8 @@ class Progress:
             self._bar.refresh()
             return
         now = self.clock()
+        if now - self.start < self.after:
+            return
         step = self.fraction * self.total
         crossed = math.floor(self.done / step + 1e-9) > math.floor(self._said / step + 1e-9)
         finished = self.done >= self.total

@@ -55,6 +55,19 @@ def test_a_slow_stretch_still_says_something_every_interval_while_the_work_moves
     assert len(lines) == 1 and "1 % (1 step), 31 s elapsed, about 51 min 09 s left" in lines[0]
 
 
+def test_work_that_ends_before_the_quiet_start_says_nothing_and_longer_work_speaks_from_then_on():
+    stream, clock = io.StringIO(), Clock()
+    progress = Progress(10, "cases", stream=stream, clock=clock, after=5.0)
+    for k in range(1, 11):
+        clock.now = 0.9 * k  # 10 % a 0.9 s: the first five tenths come before 5 s
+        progress.update(k)
+    assert shares(stream.getvalue()) == [60, 70, 80, 90, 100]
+    brief, clock = io.StringIO(), Clock()
+    quick = Progress(10, "cases", stream=brief, clock=clock, after=5.0)
+    quick.update(10)
+    assert brief.getvalue() == ""
+
+
 def test_a_terminal_gets_a_bar_and_no_lines_and_quiet_is_silent():
     terminal = Terminal()
     progress = Progress(10, "bar", stream=terminal)

@@ -55,8 +55,8 @@ Progress (``progress=True``): cases done out of all, the time elapsed and an
 estimate of the time left (the mean time per finished case times the cases
 left, so it counts the workers' parallelism): a tqdm bar on a terminal; on a
 stream that is not one (a batch job's log), a timestamped line each tenth of
-the cases and at least every 30 s while cases finish
-(:class:`deformable.progress.Progress`).
+the cases and at least every 30 s while cases finish, from
+:data:`PROGRESS_AFTER` (5 s) on (:class:`deformable.progress.Progress`).
 """
 
 from __future__ import annotations
@@ -77,6 +77,8 @@ log = logging.getLogger(__name__)
 
 #: how to get the optional Dask dependency, said whenever --scheduler is asked for without it
 DISTRIBUTED_HINT = 'pip install ".[distributed]" (Dask distributed) in the project folder'
+#: seconds of a map before its first progress line off a terminal (a study of a few seconds says only its summary)
+PROGRESS_AFTER = 5.0
 #: seconds to wait for a remote scheduler to answer
 CONNECT_TIMEOUT = 20
 #: times a case runs again after its pool worker died (Dask's default distributed.scheduler.allowed-failures)
@@ -432,7 +434,7 @@ class Runner:
         if not self.active:
             raise RuntimeError("a Runner with workers maps inside `with runner:`")
         cases = list(cases)
-        progress = Progress(len(cases), desc or "cases", enabled=self.progress)
+        progress = Progress(len(cases), desc or "cases", enabled=self.progress, after=PROGRESS_AFTER)
         if self._client is not None:
             finished = self._dask(fn, cases)
         elif self._pool is not None:
