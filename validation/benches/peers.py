@@ -119,7 +119,7 @@ PEERS = {
     "style3d": ("newton Style3D", 2, 10),
 }
 
-MISSING = "newton is not installed: pip install newton warp-lang"
+MISSING = "newton is not installed: pip install \".[peers]\" (newton and warp-lang)"
 
 NOTE = {
     "vbd": "Neo-Hookean membrane + dihedral bending (energies differ from eq. 13); fixed budget: 10 substeps x 10 "

@@ -79,7 +79,7 @@ def configure(parser) -> None:
     parser.add_argument("--rates-time", default="2", metavar="T",
                         help="rate and peer rows: seconds of motion (default: 2)")
     parser.add_argument("--peers", action="store_true",
-                        help="peer rows: newton's VBD and Style3D (pip install newton warp-lang) on the 64 x 64 "
+                        help="peer rows: newton's VBD and Style3D (pip install '.[peers]') on the 64 x 64 "
                         "hanging cloth, beside this project's hanging cloth on FD 64 x 64 nodes (default: off)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
     parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
