@@ -220,7 +220,7 @@ def execute(args) -> int:
     base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
     sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases)
     runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
-                    scheduler=args.scheduler)
+                    scheduler=args.scheduler, progress_after=0.0)  # a line as each case is stored
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
     command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))

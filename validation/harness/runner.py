@@ -56,7 +56,8 @@ estimate of the time left (the mean time per finished case times the cases
 left, so it counts the workers' parallelism): a tqdm bar on a terminal; on a
 stream that is not one (a batch job's log), a timestamped line each tenth of
 the cases and at least every 30 s while cases finish, from
-:data:`PROGRESS_AFTER` (5 s) on (:class:`deformable.progress.Progress`).
+``progress_after`` seconds on (default :data:`PROGRESS_AFTER`, 5 s; a sweep, whose cases are each stored
+as they finish, gives 0: a line a stored case) (:class:`deformable.progress.Progress`).
 """
 
 from __future__ import annotations
@@ -338,10 +339,11 @@ class Runner:
     Dask missing or a scheduler that cannot be reached raise ValueError with one line saying why.
     """
 
-    def __init__(self, jobs: int = 1, progress: bool = False, scheduler: str | None = None):
+    def __init__(self, jobs: int = 1, progress: bool = False, scheduler: str | None = None,
+                 progress_after: float = PROGRESS_AFTER):
         if isinstance(jobs, bool) or int(jobs) != jobs or jobs < 1:
             raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
-        self.jobs, self.progress = int(jobs), progress
+        self.jobs, self.progress, self.progress_after = int(jobs), progress, progress_after
         self.scheduler = None
         if scheduler is not None:
             if self.jobs > 1:
@@ -434,7 +436,7 @@ class Runner:
         if not self.active:
             raise RuntimeError("a Runner with workers maps inside `with runner:`")
         cases = list(cases)
-        progress = Progress(len(cases), desc or "cases", enabled=self.progress, after=PROGRESS_AFTER)
+        progress = Progress(len(cases), desc or "cases", enabled=self.progress, after=self.progress_after)
         if self._client is not None:
             finished = self._dask(fn, cases)
         elif self._pool is not None:
