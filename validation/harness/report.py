@@ -147,8 +147,27 @@ def csv_text(table: Table) -> str:
     return buf.getvalue()
 
 
+def decades_within(lo: float, hi: float) -> int:
+    """How many powers of ten [lo, hi] (positive) holds: a log axis over it has that many decade labels."""
+    return max(0, math.floor(math.log10(hi)) - math.ceil(math.log10(lo)) + 1)
+
+
+def _minor_labels(mantissas):
+    """A tick formatter labelling the minor ticks m x 10^e of a log axis whose mantissa m is in ``mantissas``."""
+    from matplotlib.ticker import FuncFormatter
+
+    def label(v, _pos):
+        e = math.floor(math.log10(v) + 1e-9)
+        m = round(v / 10**e, 6)
+        return f"${m:g}\\times10^{{{e}}}$" if any(abs(m - k) < 1e-6 for k in mantissas) else ""
+
+    return FuncFormatter(label)
+
+
 def plot(fig: Figure, path: Path) -> None:
-    """Draw ``fig`` as a PNG: log-log panels, markers, legend, dashed reference slopes."""
+    """Draw ``fig`` as a PNG: log-log panels, markers, legend, dashed reference slopes; an axis spanning less than
+    two decades labels some minor ticks too (2, 3, 5 x 10^k with no decade inside, 2, 5 x 10^k with one), so every
+    axis has at least two labels."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -182,7 +201,13 @@ def plot(fig: Figure, path: Path) -> None:
         ax.set_ylabel(panel.ylabel)
         ax.set_title(panel.title, fontsize=10)
         ax.grid(True, which="major", alpha=0.3)
-        ax.xaxis.set_minor_formatter(NullFormatter())
+        for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+            decades = decades_within(*lim)  # 0: no label without the minor ones; 1: one label
+            if decades < 2:  # label some minor ticks too, so every axis has at least two labels
+                axis.set_minor_formatter(_minor_labels((2, 3, 5) if decades == 0 else (2, 5)))
+                axis.set_tick_params(which="minor", labelsize=8)
+            else:
+                axis.set_minor_formatter(NullFormatter())
         if panel.lines and crowded:
             ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
         elif panel.lines:

@@ -59,3 +59,50 @@ def test_obstacles_are_drawn_in_every_frame(series, tmp_path):
     drawn = render_series(series, tmp_path / "drawn", field="z", size=(160, 120), gif=False, max_frames=1,
                           obstacles=[ball])
     assert np.any(np.asarray(Image.open(plain[0])) != np.asarray(Image.open(drawn[0])))
+
+
+def test_a_frame_has_a_colour_bar_with_the_fields_title_and_the_time(series):
+    """One renderer: render_frame draws the shaded surface, a colour bar titled with the field and its unit
+    (TITLES) and the simulated time; frame_image lays panels out side by side, one bar for the picture."""
+    import numpy as np
+
+    from deformable.io.render import TITLES, Panel, frame_image, plotter, read_series, render_frame, time_label
+
+    cells, frames = read_series(series)
+    t, points, data = frames[-1]
+    p = plotter((160, 120))
+    try:
+        render_frame(p, points, np.hstack([np.full((len(cells), 1), 4), cells]).ravel(), data["speed"], "speed",
+                     (0.0, 1.0), "sheet", t=t)
+        bars = [k.strip() for k in p.scalar_bars.keys()]  # noqa: SIM118 (ScalarBars is not a dict)
+        assert bars == [TITLES["speed"]] == ["speed (m/s)"]
+        assert p.actors["time"].input == time_label(t) == f"t = {t:.2f} s"
+        assert p.actors["title"].input == "sheet"
+        assert p.renderer.GetLights().GetNumberOfItems() == 5  # the light kit, not VTK's flat headlight
+    finally:
+        p.close()
+    assert time_label(0.4) == "t = 0.40 s"
+    grid = points.reshape(6, 6, 3)
+    img = frame_image([[Panel(grid, grid[..., 2].ravel(), "FD", 0.0), Panel(grid, grid[..., 2].ravel(), "FE", t)]],
+                      (120, 100), field="z")
+    assert img.shape == (100, 240, 3) and img.dtype == np.uint8
+
+
+def test_the_papers_media_frames_carry_their_time(tmp_path):
+    """The README's animation (validation.studies.paper.pictures, drawn by the same renderer): frames differ in
+    their time text even where the sheet does not move."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from validation.studies.paper.pictures import animation, render, rest_axis
+
+    a1, a2 = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 6), indexing="ij")
+    pts = np.stack([a1, 0.0 * a1, a2], axis=-1)
+    assert rest_axis(pts) == 1
+    gif = Image.open(io.BytesIO(animation([("still", 0.0, pts), ("still", 0.5, pts)], size=(160, 120))))
+    first = np.asarray(gif.convert("RGB"))
+    gif.seek(1)
+    assert np.any(np.asarray(gif.convert("RGB")) != first)
+    assert Image.open(io.BytesIO(render([[("a", 0.0, pts), ("b", 1.0, pts)]], size=(120, 100)))).size == (240, 100)

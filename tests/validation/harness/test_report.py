@@ -140,3 +140,24 @@ def test_an_unwritable_folder_is_a_value_error(tmp_path):
     with pytest.raises(ValueError, match="cannot write to output folder"):
         writable_folder(blocker / "sub")
     assert writable_folder(tmp_path / "new" / "sub").is_dir()
+
+
+@pytest.mark.parametrize("x, decades", [((0.0156, 0.03125, 0.0625), 0), ((0.05, 0.1, 0.2), 1), ((1e-3, 1e-2, 1e-1), 3)])
+def test_every_log_axis_of_a_report_figure_has_at_least_two_tick_labels(x, decades, tmp_path, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    from validation.harness.report import decades_within, plot
+
+    assert decades_within(min(x), max(x)) == decades
+    drawn = []
+    close = plt.close
+    monkeypatch.setattr(plt, "close", lambda f=None: (drawn.append(f), close(f)))
+    fig = Figure("f", "c", (Panel("t", "h (m)", "error (1)", (Line("e", x, [v**2 for v in x]),), (2.0,)),))
+    plot(fig, tmp_path / "f.png")
+    assert (tmp_path / "f.png").stat().st_size > 0 and len(drawn) == 1
+    drawn[0].canvas.draw()
+    ax = drawn[0].axes[0]
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        shown = [t for t in axis.get_majorticklabels() + axis.get_minorticklabels()
+                 if t.get_text() and lo <= t.get_position()[axis is ax.yaxis] <= hi]
+        assert len(shown) >= 2, [t.get_text() for t in shown]

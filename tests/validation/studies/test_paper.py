@@ -87,3 +87,30 @@ def test_the_quick_paper_study_passes_its_checks_but_the_fe_fold_ratio():
     assert [c.name for c in failed] == ["section 5, paper against curtain-silky: fold wavelength ratio"], \
         [(c.name, c.observed) for c in failed]
     assert "FE" in failed[0].observed and "FD" not in failed[0].observed
+
+
+def test_a_count_is_drawn_on_integer_ticks_of_a_linear_axis_and_legends_stay_off_the_data(monkeypatch):
+    import matplotlib.pyplot as plt
+
+    from validation.studies.paper.pictures import panels_figure
+
+    drawn = []
+    close = plt.close
+    monkeypatch.setattr(plt, "close", lambda f=None: (drawn.append(f), close(f)))
+    lines = [dict(x=[1e-6, 1e-5, 1e-4], y=[2.0, 1.5, 1.0], label=f"FD xi model {k}") for k in range(3)]
+    png = panels_figure([dict(title="folds", xlabel="xi (N m)", ylabel="fold count (1)", lines=lines, xlog=True,
+                              integer=True)], "folds")
+    assert png[:4] == b"\x89PNG" and len(drawn) == 1
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = drawn[0]
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "linear" and ax.get_xscale() == "log"
+    lo, hi = ax.get_ylim()
+    ticks = [t for t in ax.get_yticks() if lo <= t <= hi]
+    assert len(ticks) >= 2 and all(float(t).is_integer() for t in ticks)
+    renderer = canvas.get_renderer()
+    legend, box = ax.get_legend().get_window_extent(renderer), ax.get_window_extent(renderer)
+    assert legend.x0 >= box.x1 - 1, "the legend covers the axes"

@@ -395,16 +395,16 @@ def measure(res, R: dict, s: dict) -> list:
     res.figures.append(Figure("folds_xi", "Section 5: the curtain's folds against xi (left) and its fold wavelength "
                               "against the bending length (D H / (mu g))^(1/4) (right), FD and FE, both force models",
                               image=panels_figure([
-                                  dict(title="fold count (late median) against xi", xlabel="xi (N m)", ylabel="folds",
-                                       lines=count_lines, xlog=True, ylog=True),
+                                  dict(title="fold count (late median) against xi", xlabel="xi (N m)",
+                                       ylabel="fold count (1)", lines=count_lines, xlog=True, integer=True),
                                   dict(title="fold wavelength against the bending length", xlabel="bending length (m)",
                                        ylabel="lambda = 2 x fold width (m)", lines=lambda_lines, xlog=True, ylog=True)],
                                   "Folds of the drawn curtain", width=5.2, height=4.2)))
     res.figures.append(Figure("folds_time", "Section 5: fold count over time, energy-consistent runs (FD solid, FE "
                               "dashed); the rod is drawn until t = "
                               f"{scenes.config('curtain').draw_time:g} s",
-                              image=panels_figure([dict(title="folds (median over rows)", xlabel="t (s)", ylabel="folds",
-                                                        lines=time_lines)], "Folds over time", width=8.0, height=4.2)))
+                              image=panels_figure([dict(title="folds (median over rows)", xlabel="t (s)",
+                                                        ylabel="fold count (1)", lines=time_lines, integer=True)], "Folds over time", width=8.0, height=4.2)))
     checks = checks_of(res, "section 5, curtain folds") + checks_of(res, "section 5, paper against")
     literal = bool(paper_force) and all(classify(r) == "bounded" and f["ever_narrowest_h"] >= NARROWEST
                                         for r, f in paper_force.values())

@@ -7,9 +7,11 @@ parameters, grid, t_end and dt) on the FD backend: 32 x 32 nodes, the curtain
 family 64 x 64 (their folds at least 3 grid spacings wide there, see the paper
 study's folds section); ``--nodes N`` runs every scene on N x N instead. It
 writes ``<scene>.gif``, K + 1 frames from t = 0 to t_end (the
-surface coloured by its displacement out of the rest plane, y; the curtain's
-rod or the flag's pole drawn in; :func:`.pictures.animation`), and
-``<scene>.png``, the last frame as a still (:func:`.pictures.render`). A run
+surface shaded and coloured by its coordinate out of the rest plane, y, or z for
+``hanging``, with a colour bar and the time on each frame; the curtain's rod or
+the flag's pole drawn in; :func:`.pictures.animation`, drawn by
+:mod:`deformable.io.render`), and ``<scene>.png``, the last frame as a still
+(:func:`.pictures.render`). A run
 that does not finish writes nothing for its scene and makes the command exit
 1; a bad argument is one line on stderr, exit code 2, nothing written.
 """
@@ -25,7 +27,7 @@ from pathlib import Path
 from deformable import scenes
 
 from .cases import Case, fields, run_case
-from .pictures import animation, render
+from .pictures import animation, render, rest_axis
 from .renders import decorations
 
 __all__ = ["FRAMES", "MEDIA_SCENES", "scene_run", "scene_media", "write_atomic", "main"]
@@ -47,10 +49,11 @@ def scene_run(scene: str, nodes: int, frames: int = FRAMES) -> dict:
 def scene_media(scene: str, run: dict, nodes: int) -> tuple[bytes, bytes]:
     """(GIF, PNG) of a scene from its run (:func:`scene_run`)."""
     lines = decorations(scene)
-    frames = [(f"{scene}, FD {nodes}x{nodes}, t = {t:.2f} s", pts) for t, pts in run["frames"]]
+    axis = rest_axis(run["frames"][0][1])  # the colour: the coordinate out of the rest plane
+    frames = [(f"{scene}, FD {nodes}x{nodes}", t, pts) for t, pts in run["frames"]]
     (t_last, last), = run["renders"].items()
-    still = render([[(f"{scene}, t = {t_last:g} s", last)]], size=(360, 320), lines=lines)
-    return animation(frames, lines=lines), still
+    still = render([[(f"{scene}, FD {nodes}x{nodes}", t_last, last)]], size=(360, 320), lines=lines, axis=axis)
+    return animation(frames, lines=lines, axis=axis), still
 
 
 def write_atomic(path: Path, data: bytes) -> None:

@@ -1,4 +1,5 @@
-r"""Pictures of the paper study: stability maps and line panels (matplotlib), side-by-side renders (pyvista)."""
+r"""Pictures of the paper study: stability maps and line panels (matplotlib), side-by-side renders and animations
+(drawn by the one renderer, :mod:`deformable.io.render`)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 
 from .cases import VISIBLE
 
-__all__ = ["map_figure", "line_figure", "panels_figure", "render", "animation"]
+__all__ = ["DIRECTION", "animation", "line_figure", "map_figure", "panels_figure", "render", "rest_axis"]
 
 _MARK = {"bounded": ("o", "tab:green"), "runaway": ("^", "tab:orange"), "diverged": ("x", "tab:red")}
 
@@ -18,6 +19,11 @@ def _png_from_matplotlib(fig) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=80)
     return buf.getvalue()
+
+
+def _legend_outside(ax) -> None:
+    """The legend to the right of the axes, clear of the data."""
+    ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, frameon=False)
 
 
 def map_figure(panels: list[dict], xlabel: str, ylabel: str, title: str, zero_floor: float | None = None) -> bytes:
@@ -29,7 +35,7 @@ def map_figure(panels: list[dict], xlabel: str, ylabel: str, title: str, zero_fl
 
     rows = 2
     cols = math.ceil(len(panels) / rows)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.9 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(6.0 * cols, 3.9 * rows), squeeze=False)
     for ax, p in zip(axes.ravel(), panels):
         for cls, (m, c) in _MARK.items():
             pts = [(x, y) for x, y, k in p["points"] if k == cls]
@@ -50,7 +56,7 @@ def map_figure(panels: list[dict], xlabel: str, ylabel: str, title: str, zero_fl
         ax.set_ylabel(ylabel, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=6, loc="best", framealpha=0.8)
+        _legend_outside(ax)
     for ax in axes.ravel()[len(panels):]:
         ax.axis("off")
     fig.suptitle(title, fontsize=10)
@@ -67,7 +73,7 @@ def line_figure(panels: list[dict], xlabel: str, ylabel: str, title: str) -> byt
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.4 * len(panels), 3.6), squeeze=False)
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.8 * len(panels), 3.6), squeeze=False)
     for ax, p in zip(axes[0], panels):
         for line in p["lines"]:
             ax.plot(line["x"], line["y"], line.get("style", "o-"), label=line["label"], ms=4)
@@ -79,7 +85,7 @@ def line_figure(panels: list[dict], xlabel: str, ylabel: str, title: str) -> byt
         ax.set_ylabel(ylabel, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=6)
+        _legend_outside(ax)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     png = _png_from_matplotlib(fig)
@@ -89,13 +95,14 @@ def line_figure(panels: list[dict], xlabel: str, ylabel: str, title: str) -> byt
 
 def panels_figure(panels: list[dict], title: str, width: float = 4.6, height: float = 3.7) -> bytes:
     """Panels side by side, each a dict: title, xlabel, ylabel, lines [dict(x, y, label, style=..., color=...)],
-    optional xlog, ylog (log axes) and hline (y, label). Points that are NaN are skipped."""
+    optional xlog, ylog (log axes), integer (integer ticks on a linear y axis: a count) and hline (y, label).
+    Points that are NaN are skipped; the legend is outside the axes, to the right."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(panels), figsize=(width * len(panels), height), squeeze=False)
+    fig, axes = plt.subplots(1, len(panels), figsize=((width + 1.4) * len(panels), height), squeeze=False)
     for ax, p in zip(axes[0], panels):
         for line in p["lines"]:
             x, y = np.asarray(line["x"], float), np.asarray(line["y"], float)
@@ -109,12 +116,16 @@ def panels_figure(panels: list[dict], title: str, width: float = 4.6, height: fl
             ax.set_xscale("log")
         if p.get("ylog"):
             ax.set_yscale("log")
+        elif p.get("integer"):
+            from matplotlib.ticker import MaxNLocator
+
+            ax.yaxis.set_major_locator(MaxNLocator(integer=True))
         ax.set_title(p["title"], fontsize=9)
         ax.set_xlabel(p["xlabel"], fontsize=8)
         ax.set_ylabel(p["ylabel"], fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=6, loc="best", framealpha=0.8)
+        _legend_outside(ax)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     png = _png_from_matplotlib(fig)
@@ -122,105 +133,63 @@ def panels_figure(panels: list[dict], title: str, width: float = 4.6, height: fl
     return png
 
 
-def _camera(pts: np.ndarray, direction=(0.5, -1.0, 0.3), angle: float = 24.0):
-    """A camera (position, focal point, view up) that frames the points from ``direction``, z up."""
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    centre = 0.5 * (lo + hi)
-    radius = 0.5 * float(np.linalg.norm(hi - lo)) or 1.0
-    view = np.asarray(direction, float) / np.linalg.norm(direction)
-    return [tuple(centre + view * radius / math.tan(math.radians(angle / 2)) * 1.02), tuple(centre), (0.0, 0.0, 1.0)]
+#: the scenes' view: from the front, a little to the right and above (z up)
+DIRECTION = (0.5, -1.0, 0.3)
 
 
-def _colour_range(pts: np.ndarray) -> float:
-    """The colour range of y: the 98th percentile of |y| (a few outlying points do not wash the folds out)."""
-    y = np.abs(pts[..., 1]).ravel()
-    return float(np.percentile(y, 98)) or float(y.max()) or 1.0
+def rest_axis(points: np.ndarray) -> int:
+    """The axis (0, 1, 2: x, y, z) along which the points (..., 3) spread least: the rest plane's normal, for the
+    sheet at its start (the curtain's and flag's y, the hanging cloth's z)."""
+    return int(np.argmin(np.ptp(np.reshape(points, (-1, 3)), axis=0)))
 
 
-def _draw(plotter, pts, ylim, label, lines, font_size):
-    """One panel: the surface coloured by y (out of the rest plane), smooth shading, the scene's rods."""
-    pv = _pyvista()
-    grid = pv.StructuredGrid(pts[..., 0], pts[..., 1], pts[..., 2])
-    grid["y (m)"] = pts[..., 1].ravel(order="F")
-    plotter.add_mesh(grid, scalars="y (m)", clim=(-ylim, ylim), cmap="coolwarm", smooth_shading=True,
-                     show_scalar_bar=False, specular=0.3, ambient=0.25)
-    for a, b in lines:
-        plotter.add_mesh(pv.Tube(pointa=a, pointb=b, radius=0.008), color="#404040")
-    if label:
-        plotter.add_text(label, position="upper_left", font_size=font_size, color="black")
+def _panels(frames, axis: int | None) -> tuple[list[list], int]:
+    """Rows of (label, t, points (M, N, 3)) as rows of render.Panel coloured by the coordinate ``axis`` (default:
+    :func:`rest_axis` of the earliest frame's points)."""
+    from deformable.io.render import Panel
+
+    if axis is None:
+        axis = rest_axis(min((f for row in frames for f in row), key=lambda f: f[1])[2])
+    return [[Panel(pts, np.asarray(pts)[..., axis].ravel(), label, t) for label, t, pts in row] for row in frames], axis
 
 
-def _pyvista():
-    from deformable.io.render import offscreen_pyvista as pyvista
+def _picture(rows, size, lines, direction, axis, font_size) -> list[np.ndarray]:
+    """One screenshot per row of ``rows`` (each a list of rows of panels), one camera and one colour range for all."""
+    from deformable.io.render import TITLES, camera, colour_range, frame_image
 
-    return pyvista()
+    flat = [p for pic in rows for row in pic for p in row]
+    pts = np.concatenate([np.reshape(p.points, (-1, 3)) for p in flat] + [np.reshape(lines, (-1, 3))])
+    view = camera(np.array([pts.min(axis=0), pts.max(axis=0)]), direction, margin=1.2)
+    clim = colour_range([p.values for p in flat], percentile=98.0, symmetric=True)
+    field = "xyz"[axis]
+    return [frame_image(pic, size, field=field, bar_title=TITLES[field], clim=clim, view=view, cmap="coolwarm",
+                        rods=lines, font_size=font_size, digits=2) for pic in rows]
 
 
-def _view(points: list[np.ndarray], lines, direction) -> tuple[float, list]:
-    """One colour range (:func:`_colour_range`) and one camera (:func:`_camera`) for all the surfaces ``points``."""
-    surface = np.concatenate([p.reshape(-1, 3) for p in points])
-    return _colour_range(surface), _camera(np.concatenate([surface] + [np.array(seg, float) for seg in lines]),
-                                           direction)
+def render(frames: list[list[tuple[str, float, np.ndarray]]], size=(300, 260), lines=(), direction=DIRECTION,
+           axis: int | None = None) -> bytes:
+    """Render rows of (label, t (s), points (M, N, 3)) side by side (deformable.io.render.frame_image); a PNG
+    (palette) as bytes.
 
-
-def _shoot(frames: list[list[tuple[str, np.ndarray]]], size, lines, ylim, camera, font_size) -> np.ndarray:
-    """Rows of (label, points) drawn in a fresh off-screen plotter; the screenshot (H, W, 3) uint8.
-
-    A fresh plotter for every picture: a plotter reused after ``clear()`` gains a light each time and washes the
-    colours out.
+    Colour: the coordinate out of the rest plane (``axis``, default :func:`rest_axis` of the earliest frame), one
+    colour range for the whole picture (the 2nd to 98th percentile, symmetric about 0 when it has both signs),
+    the colour bar in the last panel; one camera for every panel, looking from ``direction``; ``lines``:
+    segments ((x, y, z), (x, y, z)) drawn as rods in every panel (the curtain's rail, the flag's pole).
     """
-    pv = _pyvista()
-    rows, cols = len(frames), max(len(r) for r in frames)
-    plotter = pv.Plotter(off_screen=True, shape=(rows, cols), window_size=[size[0] * cols, size[1] * rows],
-                         border=False)
-    plotter.set_background("white")
-    try:
-        for i, row in enumerate(frames):
-            for j, (label, pts) in enumerate(row):
-                plotter.subplot(i, j)
-                _draw(plotter, pts, ylim, label, lines, font_size)
-                plotter.camera_position = camera
-        return plotter.screenshot(None, return_img=True)
-    finally:
-        plotter.close()
+    from deformable.io.render import png_bytes
+
+    rows, axis = _panels(frames, axis)
+    return png_bytes(_picture([rows], size, lines, direction, axis, 8)[0])
 
 
-def render(frames: list[list[tuple[str, np.ndarray]]], size=(300, 260), lines=(), direction=(0.5, -1.0, 0.3)) -> bytes:
-    """Render rows of (label, points (M, N, 3)) side by side with pyvista; a PNG (palette) as bytes.
-
-    Colour: the displacement out of the rest plane (y, m), one colour range for the whole picture (the 98th
-    percentile of |y|); one camera for every panel, looking from ``direction``; ``lines``: segments ((x, y, z),
-    (x, y, z)) drawn as rods in every panel (the curtain's rail, the flag's pole).
-    """
-    from PIL import Image
-
-    ylim, camera = _view([p for row in frames for _, p in row], lines, direction)
-    img = _shoot(frames, size, lines, ylim, camera, 8)
-    buf = io.BytesIO()
-    Image.fromarray(img).convert("P", palette=Image.ADAPTIVE, colors=128).save(buf, format="png", optimize=True)
-    return buf.getvalue()
-
-
-def animation(frames: list[tuple[str, np.ndarray]], size=(360, 320), lines=(), direction=(0.5, -1.0, 0.3),
-              fps: float = 12.0) -> bytes:
-    """A GIF of (label, points (M, N, 3)) frames: one camera and one colour range for all (as :func:`render`).
-
-    One palette for the whole animation (96 colours, from a mosaic of every sixth frame), so frames do not
-    flicker and the file stays small (about 5 KB a frame at 360 x 320).
-    """
-    from PIL import Image
+def animation(frames: list[tuple[str, float, np.ndarray]], size=(360, 320), lines=(), direction=DIRECTION,
+              fps: float = 12.0, axis: int | None = None) -> bytes:
+    """A GIF of (label, t (s), points (M, N, 3)) frames: one camera and one colour range for all (as
+    :func:`render`), each with its colour bar and time; one palette for the whole animation
+    (deformable.io.render.gif_bytes)."""
+    from deformable.io.render import gif_bytes
 
     if not frames:
         raise ValueError("an animation needs at least one frame")
-    ylim, camera = _view([p for _, p in frames], lines, direction)
-    images = [Image.fromarray(_shoot([[frame]], size, lines, ylim, camera, 10)) for frame in frames]
-    picked = images[::6]
-    mosaic = Image.new("RGB", (size[0] * len(picked), size[1]))
-    for k, im in enumerate(picked):
-        mosaic.paste(im.convert("RGB"), (k * size[0], 0))
-    palette = mosaic.convert("P", palette=Image.ADAPTIVE, colors=96)
-    gif = [im.convert("RGB").quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
-    buf = io.BytesIO()
-    gif[0].save(buf, format="gif", save_all=True, append_images=gif[1:], duration=int(1000 / fps), loop=0,
-                optimize=True)
-    return buf.getvalue()
+    rows, axis = _panels([frames], axis)
+    return gif_bytes(_picture([[[p]] for p in rows[0]], size, lines, direction, axis, 10), fps=fps)

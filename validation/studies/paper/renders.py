@@ -62,7 +62,7 @@ def scene_picture(R: dict, scene: str, nodes: dict, force_model: str = "variatio
     frames = []
     for b in BACKENDS:
         r = runs[b]
-        frames.append([(f"{grid_label(b, nodes[b])}, t = {t:g} s", pts) for t, pts in sorted(r["renders"].items())])
+        frames.append([(grid_label(b, nodes[b]), t, pts) for t, pts in sorted(r["renders"].items())])
     return render([row for row in frames if row], size=(300, 280), lines=decorations(scene))
 
 
@@ -153,8 +153,8 @@ def _compatibility(res, R, s) -> None:
         res.figures.append(Figure("compatibility_track", "Section 3.2's compatibility test over the section 5 runs: "
                                   "|log ratio| (left) and 1 - cosine (right), worst over the resolved points",
                                   image=panels_figure([
-                                      dict(title="ratio |u| / |v|", xlabel="t (s)", ylabel="|log ratio|",
+                                      dict(title="ratio |u| / |v|", xlabel="t (s)", ylabel="|log ratio| (1)",
                                            lines=lines_r, ylog=True),
-                                      dict(title="cosine of (u, v)", xlabel="t (s)", ylabel="1 - cosine",
+                                      dict(title="cosine of (u, v)", xlabel="t (s)", ylabel="1 - cosine (1)",
                                            lines=lines_c, ylog=True)], "The compatibility test over time",
                                       width=5.6, height=4.0)))
