@@ -37,7 +37,7 @@ wind's drag) while eta and xi stay: the motion is then the one the unscaled
 sheet would have with eta / scale and xi / scale, a relatively softer sheet
 (:meth:`SceneConfig.scaling`). Equivalent weights between force models and
 the folds' length scale: :mod:`.scaling`; the planes, the curtain's seeded
-start and the smooth ramp: :mod:`.shapes`; scene files: :mod:`.files`. The fields mu and gamma are the real-world
+start and the smooth ramp: :mod:`.shapes`; scene files: :mod:`.files`. Each field's meaning and unit (its config class's docstring): :mod:`.fields`. The fields mu and gamma are the real-world
 values before scaling, so a scene file states the physics and its scaling
 apart, as section 4 recommends.
 
@@ -64,8 +64,10 @@ from .cloth import HangingConfig
 from .config import SceneConfig
 from .contact import DrapeConfig, FloorConfig, SphereConfig
 from .curtain import CurtainConfig, PaperConfig, SilkyCurtainConfig, hook_nodes
+from .fields import FieldDoc, config_table, field_docs
 from .files import read_toml, read_toml_text, run_table, to_toml
 from .flag import FlagConfig
+from .params import Parameter, Parameters, parameters
 from .registry import (
     SCENES,
     SceneSpec,
@@ -80,12 +82,11 @@ from .registry import (
     paper,
     sphere,
 )
-from .params import Parameter, Parameters, parameters
 from .scaling import equivalent_weights, fold_wavelength
 from .shapes import HORIZONTAL, VERTICAL, FoldNoise, smooth_ramp
 
 __all__ = ["SCENES", "SceneSpec", "SceneConfig", "HangingConfig", "CurtainConfig", "SilkyCurtainConfig",
            "PaperConfig", "FlagConfig", "FloorConfig", "SphereConfig", "DrapeConfig", "config", "build", "read_toml",
            "read_toml_text", "to_toml", "run_table", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
-           "sphere", "drape", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes",
+           "sphere", "drape", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "field_docs", "config_table", "FieldDoc", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes",
            "VERTICAL", "HORIZONTAL"]

@@ -48,51 +48,53 @@ class SceneConfig(Registered, family="scene"):
     Parameters
     ----------
     size : (L1, L2)
-        Sheet size in m (the parameter rectangle, metres at rest).
+        Sheet size, the parameter rectangle, metres at rest (m).
     nodes : (M, N)
-        Node grid.
+        Node grid, nodes along a1 and a2 (1).
     mu : float
-        Real-world mass density in kg/m^2 (the scene uses ``scale * mu``).
+        Real-world mass density (kg/m^2). The scene uses ``scale * mu``.
     gamma : float
-        Real-world damping density in kg/(m^2 s) (the scene uses ``scale * gamma``).
-    eta, xi : float
-        Stretching (N/m) and bending (N m) weights of eq. (13), eta_11 = eta_22 = eta, xi_11 = xi_22 = xi.
+        Real-world damping density (kg/(m^2 s)). The scene uses ``scale * gamma``.
+    eta : float
+        Stretching weight of eq. (13), eta_11 = eta_22 = eta (N/m).
+    xi : float
+        Bending weight of eq. (13), xi_11 = xi_22 = xi (N m).
     shear : float
-        eta_12 = shear eta and xi_12 = shear xi (1: the isotropic sheet with
-        Poisson ratio 0; the paper: 0).
+        Cross weights eta_12 = shear eta, xi_12 = shear xi; 1 isotropic, the paper 0 (1). 1 is the
+        isotropic sheet with Poisson ratio 0.
     g : float
-        Gravity in m/s^2 (the force mu g scales with mu).
+        Gravity; the force mu g scales with mu (m/s^2).
     scale : float
-        The section 3.1 factor on mu, gamma and the applied forces (:meth:`scaling`).
+        Section 3.1 factor on mu, gamma and the applied forces (1). See :meth:`scaling`.
     dt : float
         Default time step (s).
     t_end : float
         Default simulated time (s).
     force_model : str
-        "variational" (default) or another registered force model (:class:`deformable.ForceModel`).
-    alpha, beta : float
-        The "frozen" model's weights, given directly (section 3.2): alpha_11 =
-        alpha_22 = alpha (N/m), beta_11 = beta_22 = beta and beta_12 = shear
-        beta (N m); alpha_12 = 0 (a cross weight of r_1 . r_2 would make the
-        membrane energy indefinite). The frozen model needs one of them
-        positive; the other models take eta and xi, and refuse alpha and beta.
+        Force model: variational (default), tpbf87, frozen or another registered one (-).
+        See :class:`deformable.ForceModel`.
+    alpha : float
+        The frozen model's stretching weight, alpha_11 = alpha_22, alpha_12 = 0 (N/m). Given directly
+        (section 3.2); a cross weight of r_1 . r_2 would make the membrane energy indefinite. The frozen
+        model needs alpha or beta positive; the other models take eta and xi, and refuse alpha and beta.
+    beta : float
+        The frozen model's bending weight, beta_11 = beta_22, beta_12 = shear beta (N m).
     rest_metric : (G0_11, G0_22)
-        The rest metric G0 = diag(G0_11, G0_22) (dimensionless); (1, 1) is the
-        flat rest shape itself. A value below 1 prestresses the sheet: it is
-        in tension until its fibres shrink to sqrt(G0_ii) of their length.
+        Rest metric G0 = diag(G0_11, G0_22); (1, 1) is flat (1). A value below 1 prestresses the
+        sheet: it is in tension until its fibres shrink to sqrt(G0_ii) of their length.
     rest_curvature : (B0_11, B0_22)
-        The rest curvature B0 = diag(B0_11, B0_22) (1/m); (0, 0) is the flat
-        rest shape. (1 / R, 0) is a cylinder of radius R along a2, a sheet that
-        curls back into it; both non-zero on a flat metric is no surface at
-        all (eq. (10): ``deformable check`` says so, and the Scene warns).
+        Rest curvature B0 = diag(B0_11, B0_22); (0, 0) is flat (1/m). (1 / R, 0) is a cylinder of
+        radius R along a2, a sheet that curls back into it; both non-zero on a flat metric is no surface
+        at all (eq. (10): ``deformable check`` says so, and the Scene warns).
     rest_shape : dict or None
-        A named rest surface instead (:mod:`.rest_shapes`: ``{kind = "sphere", radius = 2.0}``, "cylinder",
-        "saddle", or "height" with a grid of heights z): its G0 and B0 as the rest metric and curvature;
-        exclusive with ``rest_metric`` and ``rest_curvature``.
+        A named rest surface instead of rest_metric and rest_curvature (-). :mod:`.rest_shapes`:
+        ``{kind = "sphere", radius = 2.0}``, "cylinder", "saddle", or "height" with a grid of heights z;
+        its G0 and B0 as the rest metric and curvature; exclusive with ``rest_metric`` and
+        ``rest_curvature``.
     obstacles : tuple of Obstacle
-        Obstacles besides the scene's own (scene files: ``[[obstacles]]`` tables).
+        Obstacles besides the scene's own, [[obstacles]] tables in a scene file (-).
     contact : Contact or None
-        How the sheet meets the obstacles (scene files: a ``[contact]`` table); None: ``Contact()``.
+        How the sheet meets the obstacles, a [contact] table; None: Contact() (-).
     """
 
     size: tuple = (1.0, 1.0)

@@ -54,9 +54,9 @@ class FloorConfig(ClothOnObstacle):
     Parameters
     ----------
     height : float
-        The sheet's starting height above the floor (m); from rest it lands at sqrt(2 g height).
+        The sheet's starting height above the floor (m). From rest it lands at sqrt(2 g height).
     tilt : float
-        The start's tilt about the a2 direction (degrees; 0: falling flat).
+        The start's tilt about the a2 direction, 0: falling flat (deg).
     """
 
     name = "floor"
@@ -112,11 +112,11 @@ class DrapeConfig(ClothOnObstacle):
     Parameters
     ----------
     table_radius : float
-        The table's radius (m; BS 5058: 0.09).
+        The table's radius, BS 5058: 0.09 (m).
     table_thickness : float
-        Its thickness (m).
+        The table's thickness (m).
     rim : float
-        The radius of its rounded rim (m).
+        The radius of the table's rounded rim (m).
     gap : float
         The sheet's starting height above the table (m).
     """

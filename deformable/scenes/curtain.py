@@ -58,30 +58,31 @@ class CurtainConfig(SceneConfig):
     Parameters
     ----------
     gather : float
-        How far the drawn end of the rod travels, as a fraction of the width
-        (0.6: the top gathers to 40 % of it); 0 leaves the top in place.
+        How far the drawn end of the rod travels, a fraction of the width (1). 0.6: the top gathers to
+        40 % of it; 0 leaves the top in place.
     draw_time : float
-        Seconds over which it is drawn (a smooth ramp, :func:`smooth_ramp`).
+        Time over which the top is drawn, a smooth ramp (s). See :func:`smooth_ramp`.
     rings : int
-        0 (default): the top row slides on the rod and its end at a1 = L1 is drawn. 1: the top hangs from
-        hooks on rings that are drawn together uniformly, each hook at a1 carried to x = a1 (1 - gather
-        ramp), holding its height, free to swing along y; the top between hooks slides in the rod's plane.
-        An experiment (issue 13): at the quick grids it folds at the grid scale (docs/design.md, "Findings").
+        0: the top slides on the rod, its end drawn; 1: hooks on rings drawn together (-).
+        With 1 the top hangs from hooks on rings that are drawn together uniformly, each hook at a1
+        carried to x = a1 (1 - gather ramp), holding its height, free to swing along y; the top between
+        hooks slides in the rod's plane. An experiment (issue 13): at the quick grids it folds at the grid
+        scale (docs/design.md, "Findings").
     hooks : float
-        With ``rings = 1``: the spacing of the hooks along the top (m, rounded to whole grid spacings;
-        :func:`hook_nodes`); 0: a hook at every top node.
+        With rings = 1, the hooks' spacing along the top; 0: a hook at every top node (m). Rounded to
+        whole grid spacings (:func:`hook_nodes`).
     noise : float
-        RMS of the start's ripple across the plane (m, :class:`FoldNoise`).
+        RMS of the start's ripple across the plane (m). See :class:`FoldNoise`.
     seed : int
-        Seed of the ripple.
+        Seed of the start's ripple (-).
     push : float
-        Force density perpendicular to the rest plane on the upper part
-        (N/m^2, real-world, along y), the paper's mechanism; 0 by default.
+        Real-world force density perpendicular to the rest plane on the upper part, along y (N/m^2).
+        The paper's mechanism; 0 by default.
     folds : float
-        0: a uniform push; n > 0: ``push sin(pi n a1 / L1)``, which selects n
-        half-waves (the earlier scene's load).
+        Half-waves of the push: 0 uniform, n > 0 push sin(pi n a1 / L1) (1). n > 0 selects n half-waves
+        (the earlier scene's load).
     taper : float
-        The push at the hem as a fraction of the push at the rod (linear between).
+        The push at the hem, a fraction of the push at the rod, linear between (1).
     """
 
     name = "curtain"

@@ -46,20 +46,20 @@ class FlagConfig(SceneConfig):
     wind : float
         Wind speed along +x, away from the pole (m/s).
     drag : float
-        c = rho C_d / 2 of the wind's pressure (kg/m^3; air 0.6), real-world.
+        Real-world c = rho C_d / 2 of the wind's pressure, air 0.6 (kg/m^3).
     coil : float
-        Stiffness of each of the two coils (N/m), real-world.
+        Real-world stiffness of each of the two coils (N/m).
     coil_at : float
-        How far from the pole the coils hold the flag (m, along a1), at a quarter and three quarters of its
-        height; their anchors swing beside those points.
+        Distance along a1 from the pole at which the coils hold the flag (m). At a quarter and three
+        quarters of its height; their anchors swing beside those points.
     swing : float
         Amplitude of the anchors' swing across the flag, along y (m).
     pull : float
-        The flow's mean pull along the flag, a force density along +x (N/m^2), real-world.
+        Real-world mean pull of the flow along the flag, a force density along +x (N/m^2).
     frequency : float
         Frequency of the swing (Hz).
     ramp : float
-        Seconds over which the swing grows to its amplitude.
+        Time over which the swing grows to its amplitude (s).
     """
 
     name = "flag"

@@ -1,4 +1,5 @@
-"""The ``deformable`` command line: ``run``, ``check``, ``validate``, ``bench`` and ``sweep``.
+"""The ``deformable`` command line: ``scenes``, ``run``, ``params``, ``view``, ``check``, ``validate``, ``bench`` and
+``sweep``.
 
 Each subcommand lives in its own module, which provides ``configure(parser)``
 and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
@@ -22,6 +23,7 @@ __all__ = ["main", "parse", "CommandError", "HelpFormatter"]
 
 # subcommand -> (module, one-line help)
 COMMANDS = {
+    "scenes": ("validation.commands.scenes", "the scene catalogue: each scene's name and what it is"),
     "run": ("validation.commands.run", "run a scene and write an XDMF time series (ParaView)"),
     "params": ("validation.commands.params", "a scene's parameters: macro and micro groups in SI units, the stable "
                "step, the bending length against the grid"),
@@ -85,7 +87,8 @@ def _missing(name):
 
 
 def parse(parser, argv):
-    """The command line's arguments; ``KEY=VALUE`` items anywhere among the options join a command's overrides.
+    """The command line's arguments; ``KEY=VALUE`` items anywhere among the options join a command's overrides
+    (``deformable sweep``: its ``KEY=VALUES``).
 
     (argparse gives a positional list only the items before the first option; ``deformable run hanging
     --grid 8x8 eta=25`` sets eta like ``deformable run hanging eta=25 --grid 8x8``.) Anything else left
@@ -94,10 +97,11 @@ def parse(parser, argv):
     args, extra = parser.parse_known_args(argv)
     if extra:
         pairs = [item for item in extra if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=.*", item, flags=re.DOTALL)]
-        if hasattr(args, "overrides") and len(pairs) == len(extra):
-            args.overrides = [*args.overrides, *pairs]
+        dest = next((d for d in ("overrides", "values") if hasattr(args, d)), None)  # run's KEY=VALUE, sweep's
+        if dest and len(pairs) == len(extra):
+            setattr(args, dest, [*getattr(args, dest), *pairs])
         else:
-            rest = [item for item in extra if item not in pairs] if hasattr(args, "overrides") else extra
+            rest = [item for item in extra if item not in pairs] if dest else extra
             prog = f"deformable {args.command}" if getattr(args, "command", None) else "deformable"
             raise CommandError(f"{prog}: unrecognized arguments: {' '.join(rest)}")
     return args

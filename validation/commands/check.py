@@ -1,4 +1,5 @@
-r"""``deformable check SCENE|FILE.toml [KEY=VALUE ...] [--grid MxN] [--rtol R]``: is the scene's rest state a surface?
+r"""``deformable check SCENE|FILE.toml [KEY=VALUE ...] [--grid MxN] [--rtol R] [--show-config]``: is the scene's rest
+state a surface? (``--show-config``: print the config's fields instead, as ``deformable run --show-config``.)
 
 The paper's compatibility test (section 3.2, eq. (10);
 :func:`deformable.check_rest_state`) on the scene's rest metric G0 and
@@ -28,7 +29,7 @@ from deformable.errors import IncompatibleRestState, InputError
 from deformable.geometry.compatibility import check_rest_state
 from deformable.scenes import build
 
-from .run import parse_grid, parse_overrides, scene_config
+from .run import parse_grid, parse_overrides, print_config, scene_config, show_config_option
 
 __all__ = ["configure", "execute"]
 
@@ -41,6 +42,7 @@ def configure(parser) -> None:
     parser.add_argument("--grid", default=None, metavar="MxN",
                         help="points of the test (default: the scene's grid, at least 33 a side)")
     parser.add_argument("--rtol", default="0.05", help="tolerance of ratio, cosine and residual (default: 0.05)")
+    show_config_option(parser)
 
 
 def execute(args) -> int:
@@ -52,6 +54,8 @@ def execute(args) -> int:
     if not (math.isfinite(rtol) and 0 < rtol < 1):
         raise InputError(f"--rtol must be a number in (0, 1), got {args.rtol!r}")
     cfg = scene_config(args.scene, **parse_overrides(args.overrides))
+    if getattr(args, "show_config", False):
+        return print_config(cfg)
     with warnings.catch_warnings():  # the Scene warns of an incompatible rest state; the command reports it
         warnings.simplefilter("ignore", IncompatibleRestState)
         scene = build(cfg)

@@ -5,12 +5,18 @@ r"""``deformable run``: run a scene, write an XDMF time series, pictures and che
     deformable run SCENE|FILE.toml [KEY=VALUE ...] [--backend fd|fe] [--force-model M] [--scheme S]
                    [--steps N | --t-end T] [--dt DT] [--grid MxN] [--out DIR] [--overwrite]
                    [--render] [--every SECONDS] [--field NAME] [--checkpoint-every K] [--resume FILE]
+                   [--compress | --no-compress] [--show-config]
 
 The scene is a name of :data:`deformable.scenes.SCENES` or a TOML file
 (``scene = "curtain"`` plus fields; :func:`deformable.scenes.read_toml`).
 ``KEY=VALUE`` sets any field of the scene's config (``eta=25``,
 ``nodes=[16,16]``, ``force_model=frozen``; values are TOML, a bare word is a
-string); the options --grid, --dt, --force-model override last.
+string); the options --grid, --dt, --force-model override last (their
+definitions, :func:`run_options`, are shared with ``deformable sweep``).
+``--show-config`` prints every field of the resolved config (value, default,
+unit, meaning: the config classes' docstrings, :mod:`deformable.scenes.fields`)
+and exits without running. ``--compress`` / ``--no-compress`` gzip the series'
+HDF5 datasets or not (default: above 32 x 32 nodes; :class:`deformable.io.XDMFWriter`).
 
 Reproducible runs. The resolved config is written beside the results as
 ``<out>/<scene>.toml``: every scene field (with ``t_end`` the time the run
@@ -61,6 +67,7 @@ anything is written.
 
 from __future__ import annotations
 
+import argparse
 import logging
 import math
 import re
@@ -75,7 +82,8 @@ import numpy as np
 
 import deformable
 from deformable import scenes, tomlio
-from deformable.checks import known_keys
+from deformable.backends.registry import Discretisation
+from deformable.checks import extra, known_keys
 from deformable.contact.points import clearance, require_outside
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
@@ -86,10 +94,11 @@ from deformable.io.series import continuation
 from deformable.limits import check_series
 from deformable.physics.force_models import ForceModel
 from validation.harness import drape
-from validation.harness.backends import BACKENDS, backend_dt, descriptor, make_model
+from validation.harness.backends import backend_dt, descriptor, make_model
 
 __all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "resolve", "simulate",
-           "RUN_KEYS", "DEFAULT_EVERY"]
+           "RUN_KEYS", "DEFAULT_EVERY", "run_options", "backend_option", "force_model_option", "show_config_option",
+           "print_config", "check_backend", "check_force_model", "option_fields"]
 
 log = logging.getLogger(__name__)
 
@@ -109,23 +118,7 @@ def configure(parser) -> None:
     parser.add_argument("overrides", metavar="KEY=VALUE", nargs="*", default=[],
                         help="set a field of the scene's config, e.g. eta=25 nodes=[16,16] force_model=frozen "
                         "(values are TOML; default: none)")
-    parser.add_argument("--backend", default=None,
-                        help="fd (finite differences) or fe (finite elements) (default: the scene file's [run] "
-                        "backend, else fd)")
-    parser.add_argument("--force-model", default=None, metavar="MODEL",
-                        help=f"{', '.join(ForceModel.names())} (default: the scene's, variational); frozen takes the "
-                        "scene keys alpha and beta")
-    parser.add_argument("--scheme", default=None, choices=SCHEMES,
-                        help="time-stepping scheme (default: the scene file's [run] scheme, else implicit-euler "
-                        "for the variational model, semi-implicit for tpbf87 and frozen)")
-    length = parser.add_mutually_exclusive_group()
-    length.add_argument("--steps", type=str, default=None, help="run until this step number (default: run to t_end)")
-    length.add_argument("--t-end", type=str, default=None,
-                        help="run until this time (s), exactly (default: the scene's t_end)")
-    parser.add_argument("--dt", type=str, default=None,
-                        help="time step (s) (default: the scene's, or half the backend's stable step if smaller)")
-    parser.add_argument("--grid", default=None, help="node grid MxN (default: the scene's nodes on fd; on fe half as "
-                        "many elements a side, e.g. 64x64 nodes -> 32x32 elements, 33x33 nodes)")
+    run_options(parser)
     parser.add_argument("--out", default=None,
                         help="output folder (default: runs/<scene>, or runs/<scene>-2, ... if that holds results; "
                         "with --resume: the checkpoint's folder)")
@@ -139,6 +132,97 @@ def configure(parser) -> None:
     parser.add_argument("--checkpoint-every", type=str, default=None,
                         help="write a checkpoint every K steps (default: none)")
     parser.add_argument("--resume", default=None, help="continue from a checkpoint file (.npz) (default: none)")
+    parser.add_argument("--compress", action=argparse.BooleanOptionalAction, default=None,
+                        help="gzip the series' HDF5 datasets (default: automatic, on above 32 x 32 nodes)")
+    show_config_option(parser)
+
+
+# -- options shared with the other commands ----------------------------------------------
+def backend_option(parser, default=None, default_text="the scene file's [run] backend, else fd",
+                   many: bool = False) -> None:
+    """``--backend``, its choices (the registered backends) in its help."""
+    names = Discretisation.names()
+    choices = f"one of {', '.join(names)}" + (f", or several comma-separated (e.g. {','.join(names)})" if many else "")
+    parser.add_argument("--backend", default=default, metavar="NAME" + (",..." if many else ""),
+                        help=f"discretisation: {choices} (default: {default_text})")
+
+
+def force_model_option(parser, default_text="the scene's, variational") -> None:
+    """``--force-model``, its choices (the registered force models) in its help."""
+    parser.add_argument("--force-model", default=None, metavar="MODEL",
+                        help=f"force model: one of {', '.join(ForceModel.names())} (default: {default_text}); frozen "
+                        "takes the scene keys alpha and beta")
+
+
+def run_options(parser, sweep: bool = False) -> None:
+    """The options ``deformable run`` and ``deformable sweep`` share: --backend, --force-model, --grid, --dt,
+    --t-end (and, for run only, --scheme and --steps); :func:`option_fields` reads them."""
+    if sweep:
+        backend_option(parser, default="fd", default_text="fd", many=True)
+    else:
+        backend_option(parser)
+    force_model_option(parser)
+    if not sweep:  # (a sweep's cases step with the backend's default scheme: validation.harness.sweep)
+        parser.add_argument("--scheme", default=None, choices=SCHEMES,
+                            help="time-stepping scheme (default: the scene file's [run] scheme, else implicit-euler "
+                            "for the variational model, semi-implicit for tpbf87 and frozen)")
+    length = parser if sweep else parser.add_mutually_exclusive_group()
+    if not sweep:
+        length.add_argument("--steps", type=str, default=None,
+                            help="run until this step number (default: run to t_end)")
+    length.add_argument("--t-end", type=str, default=None, metavar="T",
+                        help="run until this time (s), exactly (default: the scene's t_end)")
+    parser.add_argument("--dt", type=str, default=None,
+                        help="time step (s) (default: the scene's, or half the backend's stable step if smaller)")
+    parser.add_argument("--grid", default=None, metavar="MxN",
+                        help="node grid MxN (default: the scene's nodes on fd; on fe half as many elements a side, "
+                        "e.g. 64x64 nodes -> 32x32 elements, 33x33 nodes)")
+
+
+def show_config_option(parser) -> None:
+    """``--show-config``: print the scene's config, field by field, and exit (:func:`print_config`)."""
+    parser.add_argument("--show-config", action="store_true",
+                        help="print every field of the scene's config (value after KEY=VALUE, the scene file and "
+                        "the options; default; unit; meaning) and exit without running (default: off)")
+
+
+def print_config(cfg: scenes.SceneConfig) -> int:
+    """Print the aligned table of a config's fields (:func:`deformable.scenes.config_table`); 0."""
+    print("\n".join(scenes.config_table(cfg)))
+    return 0
+
+
+def check_backend(name, field: str = "--backend") -> str:
+    """``name`` if it is a registered backend; else InputError naming the field, the value and the choices."""
+    if name not in Discretisation.names():
+        raise InputError(f"{field}: unknown backend {name!r}; choose one of {', '.join(Discretisation.names())}",
+                         field=field, value=name)
+    return name
+
+
+def check_force_model(name, field: str = "--force-model") -> str:
+    """``name`` if it is a registered force model; else InputError naming the field, the value and the choices."""
+    if name not in ForceModel.names():
+        raise InputError(f"{field}: unknown force model {name!r}; choose one of {', '.join(ForceModel.names())}",
+                         field=field, value=name)
+    return name
+
+
+def option_fields(args, dt=None) -> dict:
+    """The scene fields the shared options set (--grid: nodes, --dt, --t-end, --force-model), checked;
+    ``dt`` the checked --dt where the caller has it."""
+    out = {}
+    if getattr(args, "grid", None) is not None:
+        out["nodes"] = parse_grid(args.grid)
+    dt = dt if dt is not None else positive("dt", getattr(args, "dt", None))
+    if dt is not None:
+        out["dt"] = dt
+    t_end = positive("t-end", getattr(args, "t_end", None))
+    if t_end is not None:
+        out["t_end"] = t_end
+    if getattr(args, "force_model", None) is not None:
+        out["force_model"] = check_force_model(args.force_model)
+    return out
 
 
 # -- parsing -------------------------------------------------------------------------
@@ -247,10 +331,7 @@ def resolve(args, dt: float | None = None):
     if dt is not None:
         cli["dt"] = dt
     if args.force_model is not None:
-        if args.force_model not in ForceModel.names():
-            raise InputError(f"unknown force model {args.force_model!r}; choose one of {', '.join(ForceModel.names())}",
-                         field="--force-model", value=args.force_model)
-        cli["force_model"] = args.force_model
+        cli["force_model"] = check_force_model(args.force_model)
     for key in set(cli) & set(overrides):
         if cli[key] != overrides[key]:
             raise InputError(f"scene field {key} is {overrides[key]!r} as KEY=VALUE but {cli[key]!r} as an option",
@@ -268,9 +349,7 @@ def resolve(args, dt: float | None = None):
     cfg = (scenes.read_toml_text(text, source=source, **fields_) if text is not None
            else scenes.config(source, **fields_))
     backend = args.backend or table.get("backend") or (checkpoint["backend"] if checkpoint else "fd")
-    if backend not in BACKENDS:
-        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}", field="backend",
-                     value=backend)
+    check_backend(backend, "--backend" if args.backend else f"backend (the [run] table of {source})")
     in_file = text is not None and "nodes" in tomlio.loads(text, source)
     given = "nodes" in fields_ or in_file or checkpoint is not None
     nodes = descriptor(backend).scene_nodes(cfg.nodes)
@@ -299,6 +378,8 @@ def prepare(args) -> Run:
     if args.field not in FIELDS:
         raise InputError(f"unknown field {args.field!r}; choose one of {', '.join(FIELDS)}", field="--field",
                      value=args.field)
+    if args.render:  # pyvista missing: one line saying how to install it, before anything is written
+        extra("pyvista", "render", "deformable run --render")
     dt = positive("dt", args.dt)
     steps = positive("steps", args.steps, int)
     t_end = positive("t-end", args.t_end)
@@ -351,6 +432,7 @@ def prepare(args) -> Run:
     run.every = every if every is not None else positive("every", table.get("every", DEFAULT_EVERY))
     run.ck_every = ck_every
     run.render, run.field = args.render, args.field
+    run.compress = getattr(args, "compress", None)
     run.config, run.scene, run.model, run.stepper, run.X0, run.backend = cfg, scene, model, stepper, X0, backend
     run.settings = dict(backend=backend, scheme=stepper.scheme, steps=steps, every=run.every,
                         version=deformable.__version__)
@@ -434,9 +516,12 @@ def _abandon(folder: Path, scene: str, step: int) -> None:
                     len(later), step, ", ".join(p.name for p in later[:3]) + (" ..." if len(later) > 3 else ""))
 
 
-def simulate(run: Run, progress: bool = False):
-    """Run a prepared run; returns (RunResult, XDMFWriter, EnergyMonitor, list of written checkpoints)."""
+def simulate(run: Run, progress: bool | str = False):
+    """Run a prepared run; returns (RunResult, XDMFWriter, EnergyMonitor, list of written checkpoints).
+
+    ``progress``: False, a name to start the progress lines with, or True for the scene's name."""
     cfg = run.config
+    progress = cfg.scene if progress is True else progress
     with run.folder:
         config_text = scenes.to_toml(cfg, run.settings)
         write_text(run.out / f"{cfg.scene}.toml", config_text)
@@ -447,7 +532,8 @@ def simulate(run: Run, progress: bool = False):
                 shutil.copyfile(src, run.out / src.name)
         if run.start is not None:
             _abandon(run.out, cfg.scene, run.start.step)
-        writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None)
+        writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None,
+                            compress=getattr(run, "compress", None))
         energy = EnergyMonitor(every=max(1, int(round(run.every / cfg.dt))))
         trackers = [writer, energy]
         run.clearance = []  # with obstacles: the clearance after every step (m)
@@ -481,11 +567,19 @@ def _steps_line(stepper, dt: float) -> str:
 def execute(args) -> int:
     """``deformable run``: returns 0 when the run finished, 1 when it diverged."""
     quiet = getattr(args, "quiet", False)
+    if getattr(args, "show_config", False):  # the config the run would take, field by field; no run
+        dt = positive("dt", args.dt)
+        cfg = resolve(args, dt)[0]
+        t_end = positive("t-end", args.t_end)
+        steps = positive("steps", args.steps, int)
+        if t_end is not None or steps is not None:
+            cfg = cfg.replace(t_end=t_end if t_end is not None else frame_time(steps * cfg.dt))
+        return print_config(cfg)
     run = prepare(args)
     if not quiet:  # the paper's two parameter groups and what they imply (deformable params)
         print("\n".join(scenes.parameters(run.config, run.model, run.backend).lines()), flush=True)
     t0 = time.perf_counter()
-    result, writer, energy, written = simulate(run, progress=not quiet)
+    result, writer, energy, written = simulate(run, progress=False if quiet else run.config.scene)
     e = run.model.energy(result.state.X)
     kinetic = run.model.kinetic_energy(result.state.V)
     wall = time.perf_counter() - t0

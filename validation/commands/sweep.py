@@ -3,7 +3,8 @@ r"""``deformable sweep``: a scene run over the cartesian product of config value
 ::
 
     deformable sweep SCENE|FILE.toml KEY=V1,V2,... [KEY=START:STOP:NUM[:log] ...]
-                     [--backend fd|fe|fd,fe] [--measure NAME,...] [--out DIR]
+                     [--backend fd|fe|fd,fe] [--force-model M] [--grid MxN] [--dt DT] [--t-end T]
+                     [--measure NAME,...] [--out DIR]
                      [--jobs N | --scheduler local:N|tcp://HOST:PORT|FILE]
                      [--max-cases N] [--fail-on-error] [--compare-serial]
 
@@ -12,7 +13,11 @@ of :func:`deformable.scenes.config`; a TOML scene file gives the base) and
 its values: a comma-separated list, where an item may be a range
 ``START:STOP:NUM`` (NUM values, ends included, both finite; ``:log`` for
 geometric spacing); a key given one value is a fixed override
-(``nodes=12x12``, ``t_end=0.5``). Every combination, on every backend of
+(``nodes=12x12``, ``t_end=0.5``). The options ``--grid``, ``--dt``,
+``--t-end`` and ``--force-model`` are ``deformable run``'s (the same
+definitions and checks, :func:`validation.commands.run.run_options`): fixed
+overrides of nodes, dt, t_end and force_model; a key given both as an option
+and as ``KEY=...`` is refused. Every combination, on every backend of
 ``--backend``, is one run (:mod:`validation.harness.sweep`), through the
 executor layer (:mod:`validation.harness.runner`): serial by default,
 ``--jobs N`` local processes, or Dask with ``--scheduler``.
@@ -74,10 +79,10 @@ from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
 from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, write_outputs
 
-from .run import parse_grid
+from .run import check_backend, option_fields, parse_grid, run_options
 from .validate import check_jobs, executor_options
 
-__all__ = ["configure", "execute", "parse_axis", "parse_sweep"]
+__all__ = ["configure", "execute", "fixed_options", "parse_axis", "parse_sweep"]
 
 log = logging.getLogger(__name__)
 
@@ -89,7 +94,7 @@ def configure(parser) -> None:
     parser.add_argument("values", nargs="*", metavar="KEY=VALUES",
                         help="a config field and its values: V1,V2,... and/or ranges START:STOP:NUM[:log]; "
                         "one value is a fixed override (e.g. nodes=16x16 t_end=0.5)")
-    parser.add_argument("--backend", default="fd", help="fd, fe or fd,fe (default: fd)")
+    run_options(parser, sweep=True)  # --backend (a list), --force-model, --t-end, --dt, --grid: as run takes them
     parser.add_argument("--measure", default=None, metavar="NAME,...",
                         help=f"extra columns, at the end of each run: {', '.join(MEASURES)} (default: none)")
     parser.add_argument("--out", default=None, metavar="DIR", help="output folder (default: sweeps/<scene>)")
@@ -181,19 +186,40 @@ def parse_axis(base, text: str, limit: int = MAX_CASES) -> tuple[str, tuple]:
 def _names(text: str, known, what: str) -> tuple[str, ...]:
     names = tuple(dict.fromkeys(n.strip() for n in str(text).split(",")))
     for n in names:
-        if n not in known:
-            raise InputError(f"unknown {what} {n!r}; choose from {', '.join(known)}", field=what, value=n)
+        if what == "backend":
+            check_backend(n)
+        elif n not in known:
+            raise InputError(f"--{what}: unknown {what} {n!r}; choose from {', '.join(known)}", field=what, value=n)
     return names
 
 
-def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, max_cases: int = MAX_CASES) -> Sweep:
-    """The :class:`Sweep` of command-line text: ``items`` like ``"eta=10,20"``, ``backends`` like ``"fd,fe"``.
+#: the scene field each shared option of run sets, and the option
+OPTIONS = {"nodes": "--grid", "dt": "--dt", "t_end": "--t-end", "force_model": "--force-model"}
+
+
+def fixed_options(args, items) -> dict:
+    """The scene fields set by run's options (--grid, --dt, --t-end, --force-model), checked as run checks them;
+    InputError (one line) when one of them is also a KEY=VALUES item."""
+    given = option_fields(args)
+    keys = {str(item).partition("=")[0].strip() for item in items}
+    for key in given:
+        if key in keys:
+            raise InputError(f"sweep key {key} is also given as the option {OPTIONS[key]}; give it one way",
+                             field=key, value=getattr(args, OPTIONS[key][2:].replace("-", "_")))
+    return given
+
+
+def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, max_cases: int = MAX_CASES,
+                fixed: dict | None = None) -> Sweep:
+    """The :class:`Sweep` of command-line text: ``items`` like ``"eta=10,20"``, ``backends`` like ``"fd,fe"``;
+    ``fixed`` the fields the options set (:func:`fixed_options`), axes of one value after the items'.
 
     Raises InputError (one line naming the key and value) on bad input, and ResourceError (naming the count)
     for a sweep of more than ``max_cases`` cases, counted before any is built.
     """
     limit = count("--max-cases", max_cases)
     axes = [parse_axis(base, item, limit) for item in items]
+    axes += [(key, (value,)) for key, value in (fixed or {}).items()]
     keys = [k for k, _ in axes]
     twice = [k for k in dict.fromkeys(keys) if keys.count(k) > 1]
     if twice:
@@ -218,11 +244,14 @@ def execute(args) -> int:
     """``deformable sweep``: 0; 1 when a case failed, with --fail-on-error when one did not finish, or when
     --compare-serial found the numbers differ (the last line on stderr says which)."""
     base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
-    sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases)
+    fixed = fixed_options(args, args.values)
+    sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases, fixed=fixed)
     runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
                     scheduler=args.scheduler, progress_after=0.0)  # a line as each case is stored
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
+    options = [[OPTIONS[k], getattr(args, OPTIONS[k][2:].replace("-", "_"))] for k in fixed]
     command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
+                       + [w for pair in options for w in pair]
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))
     total = sweep.count
     t0 = time.perf_counter()

@@ -51,6 +51,7 @@ import json
 import logging
 import math
 import os
+import re
 import time
 from contextlib import closing, contextmanager
 from dataclasses import dataclass, fields
@@ -358,6 +359,17 @@ _MARK = {"finished": ("o", "tab:green"), "stopped": ("s", "tab:blue"), "stalled"
          "diverged": ("x", "tab:red"), "failed": ("*", "0.3")}
 
 
+def axis_label(cls, key: str) -> str:
+    """An axis label of a swept key of config class ``cls``: the key, its meaning and unit as the config's
+    docstring gives them (:func:`deformable.scenes.fields.field_docs`, the one place fields are documented)."""
+    doc = scenes.field_docs(cls).get(key)
+    if doc is None:
+        return key
+    meaning = re.split(r"[,;:]", doc.meaning)[0].strip()
+    label = f"{key}, {meaning[:1].lower()}{meaning[1:]}"
+    return label if doc.unit in ("", "-") else f"{label} ({doc.unit})"
+
+
 def map_png(sweep: Sweep, records: list[dict]) -> bytes:
     """The statuses over the two swept keys, one panel per backend (categorical axes: one column per value)."""
     import io
@@ -386,8 +398,8 @@ def map_png(sweep: Sweep, records: list[dict]) -> bytes:
             axis.set_ticks(range(0, len(values), step))
             axis.set_ticklabels([f"{v:.3g}" if isinstance(v, float) else str(_cell(v))
                                  for v in values[::step]], fontsize=7)
-        ax.set_xlabel(kx, fontsize=8)
-        ax.set_ylabel(ky, fontsize=8)
+        ax.set_xlabel(axis_label(type(sweep.base), kx), fontsize=8)
+        ax.set_ylabel(axis_label(type(sweep.base), ky), fontsize=8)
         ax.set_xlim(-0.5, len(vx) - 0.5)
         ax.set_ylim(-0.5, len(vy) - 0.5)
         ax.set_title(f"{sweep.base.scene}, {backend}", fontsize=9)
