@@ -1,4 +1,5 @@
-"""A cantilever's load-deflection curve against the elastica (large deflections, both backends).
+"""A cantilever's load-deflection curve against the elastica (large deflections, both backends)
+============================================================================================
 
 A strip of length L = 10 m and width W = 1 m, clamped at a1 = 0, no rest
 curvature, under a dead transverse load P at its free edge (an
@@ -32,7 +33,7 @@ from fdmodel import FDModel
 from femodel import FEModel
 from validation.studies.variational import elastica_tip
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 FINE = os.environ.get("EXAMPLES_FINE") == "1"
 L, W, ETA, XI = 10.0, 1.0, 1e3, 1.0
 EI = 2 * XI * W  # N m^2: the variational model's bending constant times the width

@@ -1,4 +1,5 @@
-"""A convergence study: errors of G (eq. 4) and B (eq. 8) on an analytic surface, with observed orders.
+"""A convergence study: errors of G (eq. 4) and B (eq. 8) on an analytic surface, with observed orders
+===================================================================================================
 
 Each backend discretises a generic Monge patch z = 0.3 sin(2 a1 + 0.3)
 sin(3 a2 + 0.7) (``validation.harness.surfaces``, closed-form derivatives, no
@@ -34,7 +35,7 @@ from femodel import FEModel
 from validation.harness import surfaces
 from validation.harness.orders import fit_order, pairwise_orders
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 LEVELS = [9, 17, 33, 65, 129] if os.environ.get("EXAMPLES_FINE") == "1" else [9, 17, 33]  # nodes a side
 THEORY = {("FD", "G"): 1, ("FD", "B"): 1, ("FE", "G"): 3, ("FE", "B"): 2}
 

@@ -1,4 +1,5 @@
-"""A curling strip relaxed to its equilibrium with ``deformable.equilibrium``, against the exact arc.
+"""A curling strip relaxed to its equilibrium with ``deformable.equilibrium``, against the exact arc
+=================================================================================================
 
 A strip [0, L] x [0, W], clamped at a1 = 0, with a flat rest metric and the
 rest curvature B0 = diag(kappa, 0): the metric and curvature of a cylinder of
@@ -32,7 +33,7 @@ import deformable as dm
 from fdmodel import FDModel
 from femodel import FEModel
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 ALONG = 81 if os.environ.get("EXAMPLES_FINE") == "1" else 21  # nodes along the strip
 L, W, KAPPA = 1.0, 0.2, 4.0  # m, m, 1/m: the strip curls through kappa L = 4 rad
 

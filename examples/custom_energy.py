@@ -1,4 +1,5 @@
-"""A force model of your own, as one class: a membrane whose tension saturates, on both backends.
+"""A force model of your own, as one class: a membrane whose tension saturates, on both backends
+=============================================================================================
 
 An energy-based force model gives its density W(s, b) per unit parameter area in the residuals of the
 metric and the curvature, s = (G11 - G0_11, G22 - G0_22, G12 - G0_12) and b likewise for B, with its
@@ -10,7 +11,7 @@ Hessian of the discrete energy follow on finite differences and finite elements 
 
 which is eq. (13) with full weight tensors (eta_12 = eta, the isotropic sheet) while the strain is small
 next to k, and whose tension saturates beyond it: the membrane of a fabric whose yarns slip. Its largest
-tension is about eta k per unit length (the slope of W peaks at |s| = k), so a sheet loaded beyond that
+tension is about eta k per unit length (the slope of W peaks at ``|s| = k``), so a sheet loaded beyond that
 stretches without bound. Its membrane
 term couples the three metric residuals (``couples``), so finite differences evaluate them together, at the
 cell centres.
@@ -34,7 +35,7 @@ import numpy as np
 import deformable as dm
 from validation.harness.backends import make_model
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).parent / "out"))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).parent / "out")
 T_END = 0.2
 VERTICAL = dm.geometry.surfaces.Plane(e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 

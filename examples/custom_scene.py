@@ -1,4 +1,5 @@
-"""A scene of your own, in Python: a hammock, a sheet held along two edges, under gravity and a point load.
+"""A scene of your own, in Python: a hammock, a sheet held along two edges, under gravity and a point load
+=======================================================================================================
 
 Everything a backend needs is a :class:`deformable.Scene`: the parameter
 rectangle and its node grid (:class:`deformable.Sheet`), the material of
@@ -26,7 +27,7 @@ import numpy as np
 import deformable as dm
 from fdmodel import FDModel
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (21, 11) if os.environ.get("EXAMPLES_FINE") == "1" else (11, 7)
 
 # A 1 m x 0.5 m sheet, flat and horizontal at rest (the default rest shape is the plane (a1, a2, 0)).

@@ -1,4 +1,5 @@
-"""The same scene on both backends, side by side: finite differences (fdmodel) and finite elements (femodel).
+"""The same scene on both backends, side by side: finite differences (fdmodel) and finite elements (femodel)
+=========================================================================================================
 
 ``FDModel(scene)`` discretises eq. (11) by the paper's differences (section
 2.3, eq. 16-20); ``FEModel(scene)`` by bicubic Hermite elements on the same
@@ -29,7 +30,7 @@ from deformable import scenes
 from fdmodel import FDModel
 from femodel import FEModel
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (17, 17) if os.environ.get("EXAMPLES_FINE") == "1" else (9, 9)
 T_END = 0.4  # s
 

@@ -1,4 +1,5 @@
-"""Koiter's shell as a plate: the simply supported square under a uniform load, against Navier's series.
+"""Koiter's shell as a plate: the simply supported square under a uniform load, against Navier's series
+====================================================================================================
 
 ``deformable.Koiter(E, nu, h)`` is Koiter's isotropic shell energy (docs/design.md, "Koiter's shell"): its
 bending stiffness is the plate's D = E h^3 / (12 (1 - nu^2)), Poisson's ratio included, which eq. (13) cannot
@@ -27,7 +28,7 @@ from validation.harness.backends import make_model
 from validation.harness.orders import fit_order
 from validation.harness.plates import navier_centre
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).parent / "out"))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).parent / "out")
 E, NU, H, Q = 1e6, 0.3, 1e-2, 1.0  # Pa, -, m, N/m^2
 GRIDS = {"fe": (5, 9, 17), "fd": (17, 33, 65)}  # nodes a side (FE: 4, 8, 16 elements)
 

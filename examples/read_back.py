@@ -1,4 +1,5 @@
-"""Write a run as an XDMF time series, then read it back with meshio and with pyvista.
+"""Write a run as an XDMF time series, then read it back with meshio and with pyvista
+==================================================================================
 
 ``deformable.io.XDMFWriter`` is a tracker of :class:`deformable.TimeStepper`:
 every ``every`` steps it writes one frame (node positions and the point
@@ -31,7 +32,7 @@ from deformable import scenes
 from deformable.io import XDMFWriter
 from fdmodel import FDModel
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (24, 24) if os.environ.get("EXAMPLES_FINE") == "1" else (12, 12)
 
 # 1. the run: the hanging cloth for 1 s, a frame every 10 steps (0.05 s)

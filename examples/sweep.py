@@ -1,4 +1,5 @@
-"""A parameter sweep: where the paper's semi-implicit step loses the hanging cloth, over eta and dt.
+"""A parameter sweep: where the paper's semi-implicit step loses the hanging cloth, over eta and dt
+================================================================================================
 
 The paper's force (14) stepped by its semi-implicit scheme (eq. 22-27) lags
 alpha = eta (G - G0), so the step is stable only below about
@@ -32,7 +33,7 @@ from deformable import scenes
 from validation.harness.runner import Runner
 from validation.harness.sweep import Sweep, write_outputs
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 FINE = os.environ.get("EXAMPLES_FINE") == "1"
 
 base = scenes.config("hanging", force_model="tpbf87", nodes=(10, 10), t_end=0.3)

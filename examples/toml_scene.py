@@ -1,4 +1,5 @@
-"""A scene from a TOML file, with overrides from Python, run and its resolved config written back.
+"""A scene from a TOML file, with overrides from Python, run and its resolved config written back
+==============================================================================================
 
 ``deformable.scenes.read_toml(path)`` reads ``scene = "flag"`` plus fields
 (examples/breezy_flag.toml) and returns the scene's config: a frozen
@@ -32,9 +33,9 @@ import deformable as dm
 from deformable import scenes
 from fdmodel import FDModel
 
-OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT", Path(__file__).with_name("out")))
+OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 FINE = os.environ.get("EXAMPLES_FINE") == "1"
-FILE = Path(__file__).with_name("breezy_flag.toml")
+FILE = Path(globals().get("__file__", "toml_scene.py")).with_name("breezy_flag.toml")  # (the gallery runs it in examples/)
 
 # the file, then overrides: a small grid and a short run (the file says t_end = 1). ``replace`` checks the
 # keys like the file does. (read_toml(FILE, t_end=0.4) raises a TypeError when the file sets t_end too.)

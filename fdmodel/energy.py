@@ -6,7 +6,7 @@ flat sheet has no linear bending stiffness); the tpbf87 model reports this
 energy too. The paper defines no FD for it; this one is built from the
 paper's differences so that each term of eq. (13) is a second-order
 quadrature (the midpoint or the trapezoidal rule at the point where its
-stencil is centred):
+stencil is centred)::
 
     E(r) = sum_nodes [ eta_11 (D1+ r . D1+ r - G0_11)^2 w_D1 + eta_22 (D2+ r . D2+ r - G0_22)^2 w_D2   (eq. 18)
                      + sum_{n' = n_f, n_b} [ (xi_11 / 2) (n' . D11 r - B0'_11)^2 w_D11

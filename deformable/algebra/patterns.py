@@ -102,7 +102,10 @@ class BlockPattern:
     S : sparse (n, n)
         The scalar pattern every block has (e.g. the one ``density_matrix`` returns).
     n : int
+        The size of S (each block is n x n).
 
+    Notes
+    -----
     :meth:`matrix` takes the six blocks (a, b), a <= b, each on S's very pattern, and returns the
     coordinate-blocked (3 n, 3 n) matrix (index a n + k) on one fixed pattern.
     """

@@ -84,6 +84,8 @@ class Implicit(Scheme):
     timings : dict
         Seconds spent in the Newton solves: "hessian", "factor", "solve", "search".
 
+    Notes
+    -----
     Subclasses give :attr:`start` and the three methods below.
     """
 

@@ -28,8 +28,8 @@ __all__ = ["Scheme"]
 class Scheme(Registered, family="scheme"):
     """A time-stepping scheme (module docstring).
 
-    Class attributes
-    ----------------
+    Attributes
+    ----------
     name : str
     implicit : bool
         Each step minimises an incremental potential by Newton's method: the force model needs an energy.

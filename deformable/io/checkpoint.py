@@ -85,9 +85,15 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
     adaptive : bool, optional
         Whether the run's scheme adapts dt (the implicit ones); None: either.
 
-    Returns a dict with the keys :data:`CHECKPOINT_KEYS`, ``A`` and ``memory`` (a dict; each None when
-    not stored).
-    Raises CheckpointError (a ValueError) naming the file and what is wrong.
+    Returns
+    -------
+    dict
+        The keys :data:`CHECKPOINT_KEYS`, ``A`` and ``memory`` (a dict; each None when not stored).
+
+    Raises
+    ------
+    CheckpointError
+        A ValueError naming the file and what is wrong.
     """
     path = Path(path)
     if not path.is_file():

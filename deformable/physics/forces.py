@@ -339,7 +339,7 @@ class Spring:
 
 @dataclass(frozen=True)
 class Wind:
-    """Aerodynamic pressure on the sheet: ``c ((w - v) . n) |(w - v) . n| n`` per unit current area (N/m^2).
+    """Aerodynamic pressure on the sheet, ``c ((w - v)·n) |(w - v)·n| n`` per unit current area (N/m^2).
 
     Parameters
     ----------

@@ -12,7 +12,7 @@ a :class:`Runner`, which runs them
       a ``distributed.LocalCluster`` of N worker processes on this machine,
       one thread each (started on entering the runner, closed on leaving);
   ``"tcp://HOST:PORT"`` (any ``scheme://`` address)
-      a running Dask scheduler (``dask scheduler`` with ``dask worker``s);
+      a running Dask scheduler (``dask scheduler`` with ``dask worker`` processes);
   a path to a scheduler file
       the JSON file that ``dask scheduler --scheduler-file``, ``dask-mpi`` or
       a ``dask-jobqueue`` job writes, naming the scheduler's address.
@@ -334,6 +334,8 @@ class Runner:
         Run on Dask instead (module docstring): ``"local:N"``, a scheduler address or a scheduler
         file. Exclusive with ``jobs > 1``.
 
+    Notes
+    -----
     A runner with workers maps inside ``with runner:``, which starts the pool or connects to the
     scheduler (a LocalCluster is started there) and shuts them down on leaving. Bad arguments,
     Dask missing or a scheduler that cannot be reached raise ValueError with one line saying why.

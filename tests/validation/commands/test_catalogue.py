@@ -77,7 +77,7 @@ def test_sweep_takes_runs_options(tmp_path, capsys):
 
 @pytest.mark.parametrize("twice", [["t_end=0.02", "--t-end", "0.02"], ["nodes=6x6", "--grid", "6x6"]])
 def test_a_sweep_key_given_also_as_an_option_is_one_line_and_writes_nothing(twice, tmp_path, capsys):
-    code, out, err = _main(["sweep", "hanging", "eta=10,20", *twice, "--out", tmp_path / "out"], capsys)
+    code, _, err = _main(["sweep", "hanging", "eta=10,20", *twice, "--out", tmp_path / "out"], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "give it one way" in err
     assert not (tmp_path / "out").exists()
 
