@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import extra
 from ..errors import InputError
 
 __all__ = ["FIELDS", "TITLES", "Panel", "camera", "colour_range", "frame_image", "gif_bytes", "grid_faces",
@@ -72,10 +73,11 @@ class Panel:
 
 
 def offscreen_pyvista():
+    """pyvista set to draw off screen (EGL where there is no display); without pyvista, an InputError saying in one
+    line how to install it (the ``render`` extra, :func:`deformable.checks.extra`)."""
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista
-
+    pyvista = extra("pyvista", "render", "rendering (deformable.io.render)")
     pyvista.OFF_SCREEN = True
     return pyvista
 

@@ -106,3 +106,15 @@ def test_the_papers_media_frames_carry_their_time(tmp_path):
     gif.seek(1)
     assert np.any(np.asarray(gif.convert("RGB")) != first)
     assert Image.open(io.BytesIO(render([[("a", 0.0, pts), ("b", 1.0, pts)]], size=(120, 100)))).size == (240, 100)
+
+
+def test_rendering_without_pyvista_is_one_line_naming_the_extra(monkeypatch):
+    import sys
+
+    from deformable.errors import InputError
+    from deformable.io.render import offscreen_pyvista
+
+    monkeypatch.setitem(sys.modules, "pyvista", None)  # as on the core install
+    with pytest.raises(InputError) as err:
+        offscreen_pyvista()
+    assert "deformable[render]" in str(err.value) and "\n" not in str(err.value)
