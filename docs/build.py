@@ -62,7 +62,7 @@ def main(argv=None) -> int:
     except ImportError:
         print('docs/build.py needs sphinx: pip install ".[docs]"', file=sys.stderr)
         return 2
-    code = build_main(["-W", "--keep-going", "-q", "-b", "html", "-d", str(HERE / "_build" / "doctrees"),
+    code = build_main(["-E", "-W", "--keep-going", "-q", "-b", "html", "-d", str(HERE / "_build" / "doctrees"),
                        str(HERE), str(out)])
     if code:
         return code

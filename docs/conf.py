@@ -120,13 +120,22 @@ def _escape_docstring(app, what, name, obj, options, lines):
             lines[k] = plain_notation(line)
 
 
-# the README's links to the example scripts (examples/NAME.py, examples/README.md) lead to their gallery pages
+# the README's links to files of the repository, made for the site: an example script (examples/NAME.py) leads
+# to its gallery page, examples/README.md to the gallery, CHANGELOG.md to the changelog page; any other file
+# that is no page of the site (CITATION.cff) is named as a literal
 _EXAMPLE_LINK = re.compile(r"\]\(examples/([A-Za-z0-9_]+)\.py\)")
+_FILE_LINK = re.compile(r"\[([^\]]+)\]\(([A-Za-z0-9_.-]+\.(?:cff|toml|txt))\)")
+
+
+def readme_for_site(text: str) -> str:
+    """The README's markdown with its links to repository files turned into links of the site."""
+    text = _EXAMPLE_LINK.sub(r"](auto_examples/\1)", text)
+    text = text.replace("](examples/README.md)", "](auto_examples/index)").replace("](CHANGELOG.md)", "](changelog)")
+    return _FILE_LINK.sub(r"`\2`", text)
 
 
 def _readme_links(app, relative_path, parent_docname, content):
-    text = _EXAMPLE_LINK.sub(r"](auto_examples/\1)", content[0])
-    content[0] = text.replace("](examples/README.md)", "](auto_examples/index)")
+    content[0] = readme_for_site(content[0])
 
 
 def setup(app):

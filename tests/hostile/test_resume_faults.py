@@ -149,6 +149,7 @@ def test_a_resume_killed_after_an_older_checkpoint_leaves_no_hole(tmp_path, caps
     assert_same_series(tmp_path / "curtain.xdmf", folder / "curtain.xdmf")
 
 
+@pytest.mark.slow  # a slow fault (24 killed and resumed runs): pytest -m slow; the default run stays under 2 min
 def test_any_sequence_of_kills_and_resumes_keeps_the_series_continuous_or_is_refused(tmp_path, capsys,
                                                                                     monkeypatch):
     """Twenty-four rounds, each a resume from a random checkpoint of the folder (also stale copies put back)

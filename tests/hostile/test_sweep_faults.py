@@ -130,6 +130,7 @@ def test_a_dead_pool_worker_is_replaced_and_its_case_retried_the_others_untouche
     assert [(i, result, error) for i, result, error in outcomes] == [(v, v * v, None) for v in range(6)]
 
 
+@pytest.mark.slow  # a slow fault (several seconds of real processes): pytest -m slow; the default run stays under 2 min
 def test_a_case_that_kills_every_worker_fails_alone_after_three_retries(tmp_path):
     cases = [(str(tmp_path), v, 1, True) for v in range(5)]
     with Runner(2) as runner:
@@ -183,6 +184,7 @@ def test_a_case_the_scene_refuses_fails_the_sweep_too(tmp_path, capsys):
 
 
 # -- 4: Ctrl-C under Dask ------------------------------------------------------------------------------------
+@pytest.mark.slow  # a slow fault (several seconds of real processes): pytest -m slow; the default run stays under 2 min
 def test_ctrl_c_under_dask_stops_the_workers_quietly_and_exits_130_with_one_line(tmp_path):
     """A terminal's Ctrl-C is SIGINT to the whole process group: the workers got it too and printed 65-91 lines
     of tracebacks. About 4 s: the LocalCluster's start, two cases, the interrupt."""
