@@ -33,6 +33,7 @@ import warnings
 from .backends.contract import Backend, EnergyBackend, Sample
 from .contact.obstacles import Box, Cylinder, HalfSpace, Sphere
 from .contact.points import clearance
+from .contact.selfmesh import ContactMesh
 from .contact.settings import Contact
 from .dynamics import (
     SCHEMES,
@@ -42,6 +43,7 @@ from .dynamics import (
     EnergyMonitor,
     ProgressBar,
     RunResult,
+    SelfContactMonitor,
     StalledError,
     State,
     Stop,
@@ -101,7 +103,7 @@ __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "
     "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",
     "CheckpointError", "OutputFolderError", "ResourceError", "WriteError", "NumericalError", "XDMFWriter",
     "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
-    "RunFolder", "Contact", "clearance", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff",
+    "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff",
     "UnstableEquilibrium"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)

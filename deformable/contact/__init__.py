@@ -6,7 +6,9 @@
 - :mod:`.barrier`: the IPC barrier and friction mollifier as functions of a distance;
 - :mod:`.potential`: the barrier and lagged friction potential, its safe steps and the solved contact normals
   (the direction filter Newton's method takes from here);
-- :mod:`.repulsion`: the paper's (TPBF87's) exponential obstacle force.
+- :mod:`.repulsion`: the paper's (TPBF87's) exponential obstacle force;
+- :mod:`.selfmesh`: the sheet as a triangle mesh for self-contact, its self-distance and intersection test
+  (the IPC Toolkit, ``ipctk``).
 
 Imports the ground floor, :mod:`deformable.geometry`, :mod:`deformable.algebra` and :mod:`deformable.physics`.
 """
@@ -16,8 +18,10 @@ from .obstacles import Box, Cylinder, HalfSpace, Obstacle, Sphere, from_table, t
 from .points import ContactPoints, clearance, contact_points, require_outside, subgrid
 from .potential import ContactPotential
 from .repulsion import Repulsion
+from .selfmesh import ContactMesh, grid_triangles
 from .settings import METHODS, Contact, weight_per_area
 
 __all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table",
            "Contact", "METHODS", "weight_per_area", "ContactPoints", "subgrid", "contact_points", "require_outside",
-           "clearance", "barrier", "barrier_derivative", "barrier_second", "mollifier", "ContactPotential", "Repulsion"]
+           "clearance", "barrier", "barrier_derivative", "barrier_second", "mollifier", "ContactPotential", "Repulsion",
+           "ContactMesh", "grid_triangles"]

@@ -17,8 +17,8 @@ from .scheme import Scheme
 from .semi_implicit import SemiImplicit
 from .state import RunResult, State
 from .stepper import SCHEMES, TimeStepper
-from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, Stop, Tracker
+from .trackers import Callback, DivergenceGuard, EnergyMonitor, ProgressBar, SelfContactMonitor, Stop, Tracker
 
 __all__ = ["DivergenceError", "RunResult", "StalledError", "State", "SCHEMES", "TimeStepper", "Callback",
-           "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "Scheme", "SemiImplicit", "Implicit",
+           "DivergenceGuard", "EnergyMonitor", "ProgressBar", "SelfContactMonitor", "Stop", "Tracker", "Scheme", "SemiImplicit", "Implicit",
            "ImplicitEuler", "Newmark", "StepRejected"]

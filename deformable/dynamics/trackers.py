@@ -16,9 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import count, function, known_keys, real
+from ..contact.selfmesh import ContactMesh
 from ..errors import InputError
 
-__all__ = ["Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "Stop", "Tracker"]
+__all__ = ["Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "SelfContactMonitor", "Stop", "Tracker"]
 
 log = logging.getLogger(__name__)
 
@@ -364,3 +365,46 @@ class DivergenceGuard(Tracker):
                             diverged=True)
         self.last_good = state
         return None
+
+
+class SelfContactMonitor(Tracker):
+    """How close the sheet comes to itself during a run: the smallest distance between primitives of its contact
+    mesh that may touch, and the steps at which two of its triangles cross (:class:`deformable.ContactMesh`,
+    the IPC Toolkit's distances and intersection test). It measures; it stops nothing.
+
+    Parameters
+    ----------
+    distance : float
+        The search distance (m): closer pairs are measured, and pairs closer than it in the rest mesh are never
+        counted (neighbours, not folds).
+    every : int
+        Measure every ``every`` steps (and the first state).
+
+    Attributes
+    ----------
+    times, distances : list of float
+        The measured states' times (s) and smallest self-distances (m; inf: no pair within ``distance``).
+    crossed : list of float
+        The times (s) at which the mesh intersected itself.
+    """
+
+    def __init__(self, distance: float, every: int = 1):
+        self.distance = real("SelfContactMonitor.distance", distance, positive=True)
+        self.every = count("SelfContactMonitor.every", every)
+        self.times, self.distances, self.crossed = [], [], []
+
+    def initialize(self, state, stepper, steps: int) -> None:
+        super().initialize(state, stepper, steps)
+        self.mesh = ContactMesh(stepper.model, self.distance, rest=state.X)
+        self.handle(state)
+
+    def handle(self, state):
+        self.times.append(float(state.t))
+        self.distances.append(self.mesh.self_distance(state.X))
+        if self.mesh.intersects(state.X):
+            self.crossed.append(float(state.t))
+
+    @property
+    def smallest(self) -> float:
+        """The smallest self-distance measured (m)."""
+        return min(self.distances, default=float("inf"))
