@@ -15,6 +15,12 @@ import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
+#: the slower scripts, whose subjects have unit tests of their own (sweeps, energy models, series, scene files,
+#: FD against FE, the elastica): their printed numbers are checked under ``pytest -m slow``; that each of them
+#: runs and draws its picture CI checks in the documentation build, whose gallery runs every script
+#: (docs/build.py fails on an example that fails or draws nothing). The default run stays under 2 minutes.
+IN_THE_GALLERY = pytest.mark.slow
+
 
 def run_example(name: str, out: Path, env: dict | None = None, arg: bool = True) -> str:
     """Run examples/<name>.py (output folder ``out`` as its argument, or through ``env``); returns its stdout."""
@@ -56,6 +62,7 @@ def test_custom_scene(out):
     png(out / "custom_scene.png")
 
 
+@IN_THE_GALLERY
 def test_custom_energy(out):
     text = run_example("custom_energy", out)
     for backend in ("FD", "FE"):
@@ -69,6 +76,7 @@ def test_custom_energy(out):
     png(out / "custom_energy.png")
 
 
+@IN_THE_GALLERY
 def test_fd_vs_fe(out):
     text = run_example("fd_vs_fe", out)
     assert text.count("finished") == 2
@@ -89,6 +97,7 @@ def test_curling_strip(out):
     png(out / "curling_strip.png")
 
 
+@IN_THE_GALLERY
 def test_cantilever_elastica(out):
     text = run_example("cantilever_elastica", out)
     fd = number(r"FD .*elastica ([\d.e+-]+) L", text)
@@ -98,6 +107,7 @@ def test_cantilever_elastica(out):
     png(out / "cantilever_elastica.png")
 
 
+@IN_THE_GALLERY
 def test_read_back(out):
     text = run_example("read_back", out, env={"EXAMPLES_OUT": str(out)}, arg=False)  # the folder from the env var
     assert number(r"meshio: (\d+) frames", text) == 21, "a frame every 0.05 s over 1 s, and the first"
@@ -132,6 +142,7 @@ def test_convergence(out):
     png(out / "convergence.png")
 
 
+@IN_THE_GALLERY
 def test_sweep(out):
     text = run_example("sweep", out)
     assert "15 cases, 15 run now" in text
@@ -144,6 +155,7 @@ def test_sweep(out):
     assert "15 cases, 0 run now, 15 from" in again
 
 
+@IN_THE_GALLERY
 def test_toml_scene(out):
     text = run_example("toml_scene", out)
     assert "changed from its defaults" in text and "wind = 6.0" in text and "nodes = (10, 6)" in text
