@@ -18,7 +18,7 @@ is the toolkit's continuous collision detection along a straight step: the fract
 can take without any two of its primitives meeting (times ``margin``).
 
 Newton's method (:mod:`deformable.solve.newton`) does not take this potential yet: its matrix lives on fixed
-sparsity patterns and a contact pair couples degrees of freedom the elastic pattern does not (issue 31).
+sparsity patterns and a contact pair couples degrees of freedom the elastic pattern does not.
 """
 
 from __future__ import annotations
