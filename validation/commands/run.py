@@ -192,34 +192,38 @@ def print_config(cfg: scenes.SceneConfig) -> int:
     return 0
 
 
+def _registered(family, name, field: str) -> str:
+    """``name`` if ``family`` (a registry) knows it; else its lookup's InputError, prefixed by the field."""
+    try:
+        family.lookup(name)
+    except InputError as err:
+        raise InputError(f"{field}: {err}", field=field, value=name) from None
+    return name
+
+
 def check_backend(name, field: str = "--backend") -> str:
     """``name`` if it is a registered backend; else InputError naming the field, the value and the choices."""
-    if name not in Discretisation.names():
-        raise InputError(f"{field}: unknown backend {name!r}; choose one of {', '.join(Discretisation.names())}",
-                         field=field, value=name)
-    return name
+    return _registered(Discretisation, name, field)
 
 
 def check_force_model(name, field: str = "--force-model") -> str:
     """``name`` if it is a registered force model; else InputError naming the field, the value and the choices."""
-    if name not in ForceModel.names():
-        raise InputError(f"{field}: unknown force model {name!r}; choose one of {', '.join(ForceModel.names())}",
-                         field=field, value=name)
-    return name
+    return _registered(ForceModel, name, field)
 
 
-def option_fields(args, dt=None) -> dict:
+def option_fields(args, dt=None, t_end: bool = True) -> dict:
     """The scene fields the shared options set (--grid: nodes, --dt, --t-end, --force-model), checked;
-    ``dt`` the checked --dt where the caller has it."""
+    ``dt`` the checked --dt where the caller has it; ``t_end`` False leaves --t-end out (a run's length, which
+    :func:`prepare` sets)."""
     out = {}
     if getattr(args, "grid", None) is not None:
         out["nodes"] = parse_grid(args.grid)
     dt = dt if dt is not None else positive("dt", getattr(args, "dt", None))
     if dt is not None:
         out["dt"] = dt
-    t_end = positive("t-end", getattr(args, "t_end", None))
-    if t_end is not None:
-        out["t_end"] = t_end
+    end = positive("t-end", getattr(args, "t_end", None)) if t_end else None
+    if end is not None:
+        out["t_end"] = end
     if getattr(args, "force_model", None) is not None:
         out["force_model"] = check_force_model(args.force_model)
     return out
@@ -325,13 +329,7 @@ def resolve(args, dt: float | None = None):
         items.insert(0, args.scene)  # deformable run --resume CK eta=2: no scene, overrides only
         args.scene = None
     overrides = parse_overrides(items)
-    cli = {}
-    if args.grid is not None:
-        cli["nodes"] = parse_grid(args.grid)
-    if dt is not None:
-        cli["dt"] = dt
-    if args.force_model is not None:
-        cli["force_model"] = check_force_model(args.force_model)
+    cli = option_fields(args, dt, t_end=False)
     for key in set(cli) & set(overrides):
         if cli[key] != overrides[key]:
             raise InputError(f"scene field {key} is {overrides[key]!r} as KEY=VALUE but {cli[key]!r} as an option",
@@ -412,22 +410,7 @@ def prepare(args) -> Run:
         except ValueError as err:
             raise InputError(str(err)) from None
     t_now = 0.0 if run.start is None else run.start.t
-    step_now = 0 if run.start is None else run.start.step
-    if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
-        steps = positive("steps", table["steps"], int)  # a resolved config of a run given --steps
-    if steps is not None:
-        if steps <= step_now:
-            raise InputError(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
-                         f"{steps}", field="--steps", value=steps)
-        run.steps, run.t_end = steps - step_now, None
-        cfg = cfg.replace(t_end=frame_time(steps * cfg.dt))  # the end at the requested dt ([run] steps rules)
-    else:
-        t_end = t_end if t_end is not None else cfg.t_end
-        if not t_end > t_now * (1 + 1e-12):
-            raise InputError(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do until "
-                         f"t = {t_end:.6g} s", field="--t-end", value=t_end)
-        cfg = cfg.replace(t_end=t_end)
-        run.steps, run.t_end = None, t_end
+    cfg, run.steps, run.t_end, steps = _length(cfg, table, fields_, steps, t_end, checkpoint)
     stepper.length(t_now, steps=run.steps, t_end=run.t_end)  # a bad length or one beyond the cap, before any work
     run.every = every if every is not None else positive("every", table.get("every", DEFAULT_EVERY))
     run.ck_every = ck_every
@@ -440,6 +423,26 @@ def prepare(args) -> Run:
     span = (run.t_end - t_now) if run.t_end is not None else run.steps * cfg.dt  # adaptive steps are at most dt
     check_series(run.out / f"{cfg.scene}.xdmf", cfg.nodes, int(math.ceil(span / run.every)) + 2)
     return run
+
+
+def _length(cfg, table, fields_, steps, t_end, checkpoint):
+    """Where the run stops: (the config with its t_end, the steps left or None, the end time or None, the
+    requested step number or None), from --steps / --t-end, else the file's [run] steps, else the config's t_end;
+    InputError when the start (the checkpoint's, else t = 0) is already there."""
+    t_now = 0.0 if checkpoint is None else checkpoint["t"]
+    step_now = 0 if checkpoint is None else checkpoint["step"]
+    if steps is None and t_end is None and "steps" in table and "t_end" not in fields_:
+        steps = positive("steps", table["steps"], int)  # a resolved config of a run given --steps
+    if steps is not None:
+        if steps <= step_now:
+            raise InputError(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do until step "
+                         f"{steps}", field="--steps", value=steps)
+        return cfg.replace(t_end=frame_time(steps * cfg.dt)), steps - step_now, None, steps  # at the requested dt
+    t_end = t_end if t_end is not None else cfg.t_end
+    if not t_end > t_now * (1 + 1e-12):
+        raise InputError(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do until "
+                     f"t = {t_end:.6g} s", field="--t-end", value=t_end)
+    return cfg.replace(t_end=t_end), None, t_end, steps
 
 
 def _fits(path, checkpoint, cfg, backend, stepper) -> None:
@@ -533,7 +536,7 @@ def simulate(run: Run, progress: bool | str = False):
         if run.start is not None:
             _abandon(run.out, cfg.scene, run.start.step)
         writer = XDMFWriter(path, interval=run.every, reference=run.X0, append=run.start is not None,
-                            compress=getattr(run, "compress", None))
+                            compress=run.compress)
         energy = EnergyMonitor(every=max(1, int(round(run.every / cfg.dt))))
         trackers = [writer, energy]
         run.clearance = []  # with obstacles: the clearance after every step (m)
@@ -568,13 +571,9 @@ def execute(args) -> int:
     """``deformable run``: returns 0 when the run finished, 1 when it diverged."""
     quiet = getattr(args, "quiet", False)
     if getattr(args, "show_config", False):  # the config the run would take, field by field; no run
-        dt = positive("dt", args.dt)
-        cfg = resolve(args, dt)[0]
-        t_end = positive("t-end", args.t_end)
-        steps = positive("steps", args.steps, int)
-        if t_end is not None or steps is not None:
-            cfg = cfg.replace(t_end=t_end if t_end is not None else frame_time(steps * cfg.dt))
-        return print_config(cfg)
+        cfg, table, fields_, checkpoint, *_ = resolve(args, positive("dt", args.dt))
+        steps, t_end = positive("steps", args.steps, int), positive("t-end", args.t_end)
+        return print_config(_length(cfg, table, fields_, steps, t_end, checkpoint)[0])
     run = prepare(args)
     if not quiet:  # the paper's two parameter groups and what they imply (deformable params)
         print("\n".join(scenes.parameters(run.config, run.model, run.backend).lines()), flush=True)

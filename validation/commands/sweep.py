@@ -74,7 +74,6 @@ import numpy as np
 from deformable import scenes
 from deformable.checks import count, known_keys
 from deformable.errors import InputError, ResourceError
-from validation.harness.backends import BACKENDS
 from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
 from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, write_outputs
@@ -183,18 +182,28 @@ def parse_axis(base, text: str, limit: int = MAX_CASES) -> tuple[str, tuple]:
     return key, tuple(values)
 
 
-def _names(text: str, known, what: str) -> tuple[str, ...]:
+def _names(text: str, check) -> tuple[str, ...]:
+    """The comma-separated names of ``text``, each once, each passed through ``check`` (InputError when unknown)."""
     names = tuple(dict.fromkeys(n.strip() for n in str(text).split(",")))
     for n in names:
-        if what == "backend":
-            check_backend(n)
-        elif n not in known:
-            raise InputError(f"--{what}: unknown {what} {n!r}; choose from {', '.join(known)}", field=what, value=n)
+        check(n)
     return names
+
+
+def _measure(name: str) -> str:
+    if name not in MEASURES:
+        raise InputError(f"--measure: unknown measure {name!r}; choose from {', '.join(MEASURES)}", field="measure",
+                         value=name)
+    return name
 
 
 #: the scene field each shared option of run sets, and the option
 OPTIONS = {"nodes": "--grid", "dt": "--dt", "t_end": "--t-end", "force_model": "--force-model"}
+
+
+def _given(args, key: str):
+    """What the command line gave the option that sets scene field ``key`` (its text)."""
+    return getattr(args, OPTIONS[key][2:].replace("-", "_"))
 
 
 def fixed_options(args, items) -> dict:
@@ -205,7 +214,7 @@ def fixed_options(args, items) -> dict:
     for key in given:
         if key in keys:
             raise InputError(f"sweep key {key} is also given as the option {OPTIONS[key]}; give it one way",
-                             field=key, value=getattr(args, OPTIONS[key][2:].replace("-", "_")))
+                             field=key, value=_given(args, key))
     return given
 
 
@@ -225,8 +234,8 @@ def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, 
     if twice:
         raise InputError(f"sweep key {twice[0]!r} is given twice; list all its values in one KEY=V1,V2,...",
                          field=twice[0])
-    return Sweep(base, tuple(axes), _names(backends, BACKENDS, "backend"),
-                 _names(measures, tuple(MEASURES), "measure") if measures else (), max_cases=limit)
+    return Sweep(base, tuple(axes), _names(backends, check_backend), _names(measures, _measure) if measures else (),
+                 max_cases=limit)
 
 
 # -- the command -----------------------------------------------------------------------
@@ -249,7 +258,7 @@ def execute(args) -> int:
     runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
                     scheduler=args.scheduler, progress_after=0.0)  # a line as each case is stored
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)
-    options = [[OPTIONS[k], getattr(args, OPTIONS[k][2:].replace("-", "_"))] for k in fixed]
+    options = [[OPTIONS[k], _given(args, k)] for k in fixed]
     command = " ".join(["deformable sweep", args.scene, *args.values, "--backend", ",".join(sweep.backends)]
                        + [w for pair in options for w in pair]
                        + (["--measure", ",".join(sweep.measures)] if sweep.measures else []))
