@@ -68,33 +68,34 @@ class ContactMesh:
     def __init__(self, model, distance: float, samples: int | None = None, rest=None):
         if isinstance(distance, bool) or not isinstance(distance, (int, float)) or not 0 < distance < math.inf:
             raise ValueError(f"ContactMesh.distance must be a positive finite number (m), got {distance!r}")
-        self.ipc = ipctk
         self.distance = float(distance)
         self.points = contact_points(model, samples)
         self.faces = grid_triangles(self.points.shape)
-        self.edges = np.asarray(self.ipc.edges(self.faces), dtype=np.int32)
+        self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         X0 = model.initial_state() if rest is None else np.asarray(rest, float)
         self.rest = self.vertices(X0)
-        self.mesh = self.ipc.CollisionMesh(self.rest, self.edges, self.faces)
+        self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
         self.excluded = self._close_at_rest()
         if self.excluded:  # a sparse filter, evaluated in the IPC Toolkit's own code
-            self.mesh.can_collide = self.ipc.make_sparse_filter({pair: False for pair in self.excluded}, True)
+            self.mesh.can_collide = ipctk.make_sparse_filter({pair: False for pair in self.excluded}, True)
 
     def vertices(self, X) -> np.ndarray:
         """The mesh's vertices (P, 3) of a state X (ndof, 3) (m), Fortran-ordered as the IPC Toolkit takes them."""
         return np.asfortranarray(self.points.positions(np.asarray(X, float)))
 
-    def _collisions(self, V, distance: float):
-        """The IPC Toolkit's normal collisions of vertices V within ``distance`` (m)."""
-        collisions = self.ipc.NormalCollisions()
-        collisions.build(self.mesh, V, distance)
+    def collisions(self, V, distance: float | None = None, area_weighting: bool = False):
+        """The IPC Toolkit's normal collisions of vertices V (P, 3) within ``distance`` (m, default the activation
+        distance); ``area_weighting``: each weighted by its primitives' rest areas (the barrier's weights)."""
+        collisions = ipctk.NormalCollisions()
+        collisions.use_area_weighting = area_weighting
+        collisions.build(self.mesh, np.asfortranarray(V), self.distance if distance is None else distance)
         return collisions
 
     def _close_at_rest(self) -> frozenset:
         """The vertex pairs across every pair of primitives (point-triangle, edge-edge) closer than the activation
         distance in the rest mesh: each pair of the two primitives' vertices, so that no collision between them
         is left, whichever feature is closest."""
-        candidates = self.ipc.Candidates()
+        candidates = ipctk.Candidates()
         candidates.build(self.mesh, self.rest, self.distance)
         pairs = set()
         for kind in (candidates.fv_candidates, candidates.ee_candidates):
@@ -107,14 +108,14 @@ class ContactMesh:
 
     def intersects(self, X) -> bool:
         """Whether two triangles of state X (ndof, 3) that share no vertex cross each other."""
-        return bool(self.ipc.has_intersections(self.mesh, self.vertices(X)))
+        return bool(ipctk.has_intersections(self.mesh, self.vertices(X)))
 
     def self_distance(self, X, within: float | None = None) -> float:
         """The smallest distance between primitives of state X (ndof, 3) that may touch (m); inf when none is
         closer than ``within`` (m, default the activation distance)."""
         within = self.distance if within is None else float(within)
         V = self.vertices(X)
-        collisions = self._collisions(V, within)
+        collisions = self.collisions(V, within)
         if len(collisions) == 0:
             return math.inf
         return math.sqrt(max(0.0, float(collisions.compute_minimum_distance(self.mesh, V))))

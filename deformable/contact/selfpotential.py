@@ -76,39 +76,34 @@ class SelfContactPotential:
         self.order = (3 * np.arange(self.P)[None, :] + np.arange(3)[:, None]).ravel()
 
     def _vertices(self, x) -> np.ndarray:
-        return self.mesh.points.W @ np.asarray(x, float).reshape(3, self.n).T
-
-    def _collisions(self, V):
-        collisions = ipctk.NormalCollisions()
-        collisions.use_area_weighting = True
-        collisions.build(self.mesh.mesh, np.asfortranarray(V), self.dhat)
-        return collisions
+        """The mesh's vertices (P, 3) of a flat state x."""
+        return self.mesh.vertices(np.asarray(x, float).reshape(3, self.n).T)
 
     def energy(self, x) -> float:
         """S(x) (J); +inf where the mesh intersects itself."""
-        V = np.asfortranarray(self._vertices(x))
+        V = self._vertices(x)
         if ipctk.has_intersections(self.mesh.mesh, V):
             return math.inf
-        return float(self.barrier(self._collisions(V), self.mesh.mesh, V))
+        return float(self.barrier(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V))
 
     def gradient(self, x) -> np.ndarray:
         """grad S, flat (3 ndof,) (N)."""
-        V = np.asfortranarray(self._vertices(x))
-        g = np.asarray(self.barrier.gradient(self._collisions(V), self.mesh.mesh, V)).ravel()
+        V = self._vertices(x)
+        g = np.asarray(self.barrier.gradient(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V)).ravel()
         return self.W3.T @ g[self.order]
 
     def hessian(self, x) -> sp.csr_matrix:
         """The Hessian of S with each pair's part projected onto the positive semi-definite cone, (3 ndof, 3 ndof)
         (N/m). Its pattern follows the pairs in contact."""
-        V = np.asfortranarray(self._vertices(x))
-        H = self.barrier.hessian(self._collisions(V), self.mesh.mesh, V, ipctk.PSDProjectionMethod.CLAMP)
+        V = self._vertices(x)
+        H = self.barrier.hessian(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V, ipctk.PSDProjectionMethod.CLAMP)
         H = sp.csr_matrix(H)[self.order][:, self.order]
         return (self.W3.T @ H @ self.W3).tocsr()
 
     def max_step(self, x, dx) -> float:
         """The fraction in (0, 1] of the step dx (flat) that x may take with no two primitives meeting on the way
         (``margin`` of the collision-free fraction when that is below 1)."""
-        V0 = np.asfortranarray(self._vertices(x))
-        V1 = np.asfortranarray(self._vertices(np.asarray(x, float) + np.asarray(dx, float)))
+        V0 = self._vertices(x)
+        V1 = self._vertices(np.asarray(x, float) + np.asarray(dx, float))
         alpha = float(ipctk.compute_collision_free_stepsize(self.mesh.mesh, V0, V1, 0.0, None, self.ccd))
         return 1.0 if alpha >= 1.0 else self.margin * alpha
