@@ -9,8 +9,9 @@
 - :mod:`.repulsion`: the paper's (TPBF87's) exponential obstacle force;
 - :mod:`.selfmesh`: the sheet as a triangle mesh for self-contact, its self-distance and intersection test
   (the IPC Toolkit, ``ipctk``);
-- :mod:`.selfpotential`: the self-contact barrier on that mesh and its collision-free step (not yet in
-  Newton's method).
+- :mod:`.selfpotential`: the self-contact barrier on that mesh and its collision-free step;
+- :mod:`.terms`: the obstacles' and the self-contact's terms as one term of Newton's potential and one
+  direction filter.
 
 Imports the ground floor, :mod:`deformable.geometry`, :mod:`deformable.algebra` and :mod:`deformable.physics`.
 """
@@ -23,8 +24,9 @@ from .repulsion import Repulsion
 from .selfmesh import ContactMesh, grid_triangles
 from .selfpotential import SelfContactPotential
 from .settings import METHODS, Contact, weight_per_area
+from .terms import ContactTerms
 
 __all__ = ["Obstacle", "HalfSpace", "Sphere", "Box", "Cylinder", "from_table", "to_table",
            "Contact", "METHODS", "weight_per_area", "ContactPoints", "subgrid", "contact_points", "require_outside",
            "clearance", "barrier", "barrier_derivative", "barrier_second", "mollifier", "ContactPotential", "Repulsion",
-           "ContactMesh", "grid_triangles", "SelfContactPotential"]
+           "ContactMesh", "grid_triangles", "SelfContactPotential", "ContactTerms"]

@@ -7,10 +7,10 @@ sub-grid is two triangles, split along the diagonal from (i, j) to (i + 1, j + 1
 triangles' edges. A quantity on the mesh's vertices maps back to the degrees of freedom exactly, by W^T.
 
 Which pairs may touch. Primitives that share a vertex never count (the IPC Toolkit's rule: a triangle and its
-own corner, two edges of one triangle). Beyond those, a pair closer than the activation distance in the rest
-mesh (the sheet's initial state) is excluded too: those are neighbours, not a fold meeting another fold.
+own corner, two edges of one triangle). Beyond those, a pair closer than the thickness plus the activation
+distance in the rest mesh (the sheet's initial state) is excluded too: those are neighbours, not a fold meeting another fold.
 :attr:`ContactMesh.excluded` lists them (vertex pairs of the IPC Toolkit's ``can_collide``); on a flat rest
-sheet with the activation distance below the sub-grid's spacing there are none.
+sheet with the thickness plus the activation distance below the sub-grid's spacing there are none.
 
 What is measured (Li et al. 2020, "Incremental Potential Contact", ACM TOG 39(4): the same distances and
 intersection test): :meth:`ContactMesh.intersects`, whether two non-adjacent triangles of a state cross, and
@@ -54,6 +54,9 @@ class ContactMesh:
         Contact points per cell side (default: the scene's ``Contact.samples``, else the backend's own).
     rest : array (ndof, 3), optional
         The rest mesh's state (default: the model's initial state).
+    thickness : float
+        The sheet's thickness dmin (m): the barrier's distances count from it, and pairs closer than
+        ``thickness + distance`` in the rest mesh are excluded.
 
     Attributes
     ----------
@@ -65,10 +68,12 @@ class ContactMesh:
         Vertex pairs closer than ``distance`` in the rest mesh that share no triangle: never in contact.
     """
 
-    def __init__(self, model, distance: float, samples: int | None = None, rest=None):
+    def __init__(self, model, distance: float, samples: int | None = None, rest=None, thickness: float = 0.0):
         if isinstance(distance, bool) or not isinstance(distance, (int, float)) or not 0 < distance < math.inf:
             raise ValueError(f"ContactMesh.distance must be a positive finite number (m), got {distance!r}")
-        self.distance = float(distance)
+        if isinstance(thickness, bool) or not isinstance(thickness, (int, float)) or not 0 <= thickness < math.inf:
+            raise ValueError(f"ContactMesh.thickness must be a non-negative finite number (m), got {thickness!r}")
+        self.distance, self.thickness = float(distance), float(thickness)
         self.points = contact_points(model, samples)
         self.faces = grid_triangles(self.points.shape)
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
@@ -84,24 +89,30 @@ class ContactMesh:
         return np.asfortranarray(self.points.positions(np.asarray(X, float)))
 
     def collisions(self, V, distance: float | None = None, area_weighting: bool = False):
-        """The IPC Toolkit's normal collisions of vertices V (P, 3) within ``distance`` (m, default the activation
-        distance); ``area_weighting``: each weighted by its primitives' rest areas (the barrier's weights)."""
+        """The IPC Toolkit's normal collisions of vertices V (P, 3): the pairs closer than the thickness plus
+        the activation distance, their barrier counted from the thickness; ``distance`` (m): the pairs closer than
+        it, with no thickness (a measurement). ``area_weighting``: each weighted by its primitives' rest areas (the
+        barrier's weights)."""
         collisions = ipctk.NormalCollisions()
         collisions.use_area_weighting = area_weighting
-        collisions.build(self.mesh, np.asfortranarray(V), self.distance if distance is None else distance)
+        if distance is None:
+            collisions.build(self.mesh, np.asfortranarray(V), self.distance, self.thickness)
+        else:
+            collisions.build(self.mesh, np.asfortranarray(V), distance)
         return collisions
 
     def _close_at_rest(self) -> frozenset:
         """The vertex pairs across every pair of primitives (point-triangle, edge-edge) closer than the activation
         distance in the rest mesh: each pair of the two primitives' vertices, so that no collision between them
         is left, whichever feature is closest."""
+        reach = self.thickness + self.distance
         candidates = ipctk.Candidates()
-        candidates.build(self.mesh, self.rest, self.distance)
+        candidates.build(self.mesh, self.rest, reach)
         pairs = set()
         for kind in (candidates.fv_candidates, candidates.ee_candidates):
             for c in kind:
                 squared = float(c.compute_distance(self.rest, self.edges, self.faces))  # the IPC Toolkit's d^2
-                if math.sqrt(max(0.0, squared)) < self.distance:
+                if math.sqrt(max(0.0, squared)) < reach:
                     ids = [int(v) for v in c.vertex_ids(self.edges, self.faces)]
                     pairs.update((min(u, v), max(u, v)) for u in ids for v in ids if u != v)
         return frozenset(pairs)

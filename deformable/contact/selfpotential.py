@@ -14,11 +14,18 @@ obstacle barrier's kappa is (:meth:`deformable.contact.settings.Contact.barrier_
 Hessian are the IPC Toolkit's with respect to the mesh's vertices, each pair's Hessian projected onto the
 positive semi-definite cone (the toolkit's clamping of its eigenvalues), mapped to the degrees of freedom by W:
 ``grad_x = W^T grad_V`` and ``H_x = W^T H_V W`` per coordinate block. :meth:`SelfContactPotential.max_step`
-is the toolkit's continuous collision detection along a straight step: the fraction of a step ``dx`` the mesh
-can take without any two of its primitives meeting (times ``margin``).
+is the toolkit's continuous collision detection along a straight step (additive CCD): the fraction of a step
+``dx`` the mesh can take without any two of its primitives meeting (times ``margin``).
 
-Newton's method (:mod:`deformable.solve.newton`) does not take this potential yet: its matrix lives on fixed
-sparsity patterns and a contact pair couples degrees of freedom the elastic pattern does not.
+The sheet's thickness dmin (``Contact(thickness=...)``) offsets every distance: the barrier is the IPC Toolkit's
+of ``d^2 - dmin^2`` over ``dhat^2 + 2 dmin dhat``, infinite at d = dmin, and the collision-free step keeps every pair
+at least dmin apart, so no two fold faces come closer than the thickness.
+
+In Newton's method (:mod:`deformable.solve.newton`, through :class:`deformable.contact.terms.ContactTerms`) S joins
+the potential of each implicit step; its Hessian couples degrees of freedom the elastic pattern does not, and its
+pattern changes with the pairs in contact: it enters the Newton matrix on a pattern that grows
+(:meth:`deformable.algebra.reduced.ReducedSystem.free_block`'s ``loose`` matrices). Every direction is clipped to
+:meth:`SelfContactPotential.max_step`, so no iterate, tried or taken, passes the sheet through itself.
 """
 
 from __future__ import annotations
@@ -42,11 +49,13 @@ class SelfContactPotential:
     ----------
     model : Backend
     distance : float
-        The activation distance dhat (m).
+        The activation distance dhat (m), beyond the thickness.
     stiffness : float, optional
-        kappa (N/m^5); default: the sheet's weight per area rests at dhat / 10.
+        kappa (N/m^5); default: the sheet's weight per area rests at a gap of dmin + dhat / 10.
     margin : float
         The fraction, in (0, 1), of the collision-free step that :meth:`max_step` allows.
+    thickness : float
+        The sheet's thickness dmin (m).
 
     Attributes
     ----------
@@ -55,55 +64,76 @@ class SelfContactPotential:
         The barrier stiffness (N/m^5).
     """
 
-    def __init__(self, model, distance: float, stiffness: float | None = None, margin: float = 0.8):
+    def __init__(self, model, distance: float, stiffness: float | None = None, margin: float = 0.8,
+                 thickness: float = 0.0):
         if not 0 < margin < 1:
             raise ValueError(f"SelfContactPotential.margin must lie in (0, 1), got {margin!r}")
-        self.mesh = ContactMesh(model, distance)
-        self.n, self.margin, self.dhat = model.ndof, float(margin), float(distance)
-        if stiffness is None:
-            d0 = REST_FRACTION * self.dhat  # the weight per area rests there: kappa |b'(d0^2)| 2 d0 = mu g
-            slope = -ipctk.barrier_first_derivative(d0 * d0, self.dhat * self.dhat) * 2 * d0
+        self.mesh = ContactMesh(model, distance, thickness=thickness)
+        self.n, self.margin, self.dhat, self.dmin = model.ndof, float(margin), float(distance), float(thickness)
+        if stiffness is None:  # the weight per area rests at d0 = dmin + dhat / 10: kappa |d b(d^2 - dmin^2) / dd| = mu g
+            d0 = self.dmin + REST_FRACTION * self.dhat
+            reach = self.dhat * self.dhat + 2 * self.dmin * self.dhat
+            slope = -ipctk.barrier_first_derivative(d0 * d0 - self.dmin * self.dmin, reach) * 2 * d0
             stiffness = weight_per_area(model.scene) / slope
         self.kappa = float(stiffness)
         self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
-        # Tight-Inclusion CCD (Wang et al. 2021) capped at 10^4 iterations: a capped query returns a conservative
-        # time of impact; the default cap (10^7) left one FE step query running for minutes
-        self.ccd = ipctk.TightInclusionCCD(1e-6, 10_000)
+        # additive CCD (Li, Kaufman and Jiang 2021, "Codimensional Incremental Potential Contact", ACM TOG 40(4),
+        # section 5: conservative advancement to a minimum separation): measured on a fold closing at 10 m/s (FD
+        # 24 x 24 nodes, 103 Newton directions) 0.30 s CPU against Tight-Inclusion CCD's 7.4 s (Wang et al. 2021;
+        # tolerance 1e-6, 10^4 iterations), its steps within 0.1 of the latter's; capped at 10^6 iterations
+        self.ccd = ipctk.AdditiveCCD(1_000_000)
         W = self.mesh.points.W
         self.P = W.shape[0]
-        self.W3 = sp.kron(sp.identity(3, format="csr"), W, format="csr")  # coordinate-blocked x -> V blocks
-        # the IPC Toolkit orders a vertex quantity vertex by vertex (3 p + a); ours is blocked (a P + p)
-        self.order = (3 * np.arange(self.P)[None, :] + np.arange(3)[:, None]).ravel()
+        # x (coordinate blocks, a ndof + k) -> the mesh's vertices as the IPC Toolkit orders them (3 p + a)
+        W3 = sp.kron(sp.identity(3, format="csr"), W, format="csr")
+        order = (3 * np.arange(self.P)[None, :] + np.arange(3)[:, None]).ravel()  # blocked index a P + p -> 3 p + a
+        self.Wv = W3[np.argsort(order)].tocsr()
+        self.WvT = self.Wv.T.tocsr()
+        self._last = None  # (x, V, collisions) of the last state asked about
+        self._zeros = np.zeros(3 * self.n)
 
-    def _vertices(self, x) -> np.ndarray:
-        """The mesh's vertices (P, 3) of a flat state x."""
-        return self.mesh.vertices(np.asarray(x, float).reshape(3, self.n).T)
+    def _at(self, x):
+        """The vertices (P, 3) and the barrier's collisions of a flat state x, kept for the next call at the same x
+        (energy, gradient and Hessian at one iterate build them once)."""
+        x = np.asarray(x, float)
+        if self._last is not None and np.array_equal(self._last[0], x):
+            return self._last[1], self._last[2]
+        V = self.mesh.vertices(x.reshape(3, self.n).T)
+        collisions = self.mesh.collisions(V, area_weighting=True)
+        self._last = (x.copy(), V, collisions)
+        return V, collisions
 
     def energy(self, x) -> float:
-        """S(x) (J); +inf where the mesh intersects itself."""
-        V = self._vertices(x)
+        """S(x) (J); +inf where the mesh intersects itself or two primitives that may touch are not more than the
+        thickness apart."""
+        V, collisions = self._at(x)
         if ipctk.has_intersections(self.mesh.mesh, V):
             return math.inf
-        return float(self.barrier(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V))
+        if len(collisions) and collisions.compute_minimum_distance(self.mesh.mesh, V) <= self.dmin * self.dmin:
+            return math.inf
+        return float(self.barrier(collisions, self.mesh.mesh, V))
 
     def gradient(self, x) -> np.ndarray:
         """grad S, flat (3 ndof,) (N)."""
-        V = self._vertices(x)
-        g = np.asarray(self.barrier.gradient(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V)).ravel()
-        return self.W3.T @ g[self.order]
+        V, collisions = self._at(x)
+        if len(collisions) == 0:
+            return self._zeros.copy()
+        return self.WvT @ np.asarray(self.barrier.gradient(collisions, self.mesh.mesh, V)).ravel()
 
     def hessian(self, x) -> sp.csr_matrix:
         """The Hessian of S with each pair's part projected onto the positive semi-definite cone, (3 ndof, 3 ndof)
-        (N/m). Its pattern follows the pairs in contact."""
-        V = self._vertices(x)
-        H = self.barrier.hessian(self.mesh.collisions(V, area_weighting=True), self.mesh.mesh, V, ipctk.PSDProjectionMethod.CLAMP)
-        H = sp.csr_matrix(H)[self.order][:, self.order]
-        return (self.W3.T @ H @ self.W3).tocsr()
+        (N/m). Its pattern follows the pairs in contact (no entries without one)."""
+        V, collisions = self._at(x)
+        if len(collisions) == 0:
+            return sp.csr_matrix((3 * self.n, 3 * self.n))
+        H = sp.csr_matrix(self.barrier.hessian(collisions, self.mesh.mesh, V, ipctk.PSDProjectionMethod.CLAMP))
+        return (self.WvT @ H @ self.Wv).tocsr()
 
     def max_step(self, x, dx) -> float:
-        """The fraction in (0, 1] of the step dx (flat) that x may take with no two primitives meeting on the way
-        (``margin`` of the collision-free fraction when that is below 1)."""
-        V0 = self._vertices(x)
-        V1 = self._vertices(np.asarray(x, float) + np.asarray(dx, float))
-        alpha = float(ipctk.compute_collision_free_stepsize(self.mesh.mesh, V0, V1, 0.0, None, self.ccd))
+        """The fraction in (0, 1] of the step dx (flat) that x may take with no two primitives coming closer than
+        the thickness on the way (``margin`` of the collision-free fraction when that is below 1)."""
+        x = np.asarray(x, float)
+        V0 = self.mesh.vertices(x.reshape(3, self.n).T)
+        V1 = self.mesh.vertices((x + np.asarray(dx, float)).reshape(3, self.n).T)
+        alpha = float(ipctk.compute_collision_free_stepsize(self.mesh.mesh, V0, V1, self.dmin, None, self.ccd))
         return 1.0 if alpha >= 1.0 else self.margin * alpha

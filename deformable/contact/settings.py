@@ -5,7 +5,9 @@ stiffness kappa (by default the sheet's own weight mu g rests at dhat / 10),
 the friction's smoothing speed, the contact points per cell side, the method
 (the barrier of the implicit schemes, or the paper's exponential force of
 the semi-implicit scheme) and the fraction of a safe step a Newton step may
-take (:mod:`deformable.contact.potential`, :mod:`deformable.contact.repulsion`).
+take (:mod:`deformable.contact.potential`, :mod:`deformable.contact.repulsion`),
+and the sheet against itself: the self-contact's activation distance and the
+sheet's thickness (:mod:`deformable.contact.selfpotential`).
 """
 
 from __future__ import annotations
@@ -65,6 +67,13 @@ class Contact:
         c of the exponential force (N/m^2); None: 100 times the sheet's weight per area.
     margin : float
         The fraction, in (0, 1), of the largest safe step a Newton step may take.
+    self_distance : float or None
+        The activation distance of the self-contact barrier (m): the sheet
+        against itself, beyond ``thickness`` (implicit schemes, a force model
+        with an energy); None: no self-contact.
+    thickness : float
+        The sheet's thickness (m): no two primitives of the sheet's contact
+        mesh that may touch come closer than it (0: they only never cross).
     """
 
     distance: float = 1e-3
@@ -75,17 +84,20 @@ class Contact:
     method: str = "barrier"
     pressure: float | None = None
     margin: float = 0.8
+    self_distance: float | None = None
+    thickness: float = 0.0
 
     def __post_init__(self):
-        for name in ("distance", "friction", "stiffness", "slip", "pressure", "margin"):
+        for name in ("distance", "friction", "stiffness", "slip", "pressure", "margin", "self_distance",
+                     "thickness"):
             v = getattr(self, name)
-            if v is None and name in ("stiffness", "pressure"):
+            if v is None and name in ("stiffness", "pressure", "self_distance"):
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ValueError(f"Contact.{name} must be a finite number, got {v!r}")
-            if v < 0 or (v == 0 and name not in ("friction",)):
-                raise ValueError(f"Contact.{name} must be {'non-negative' if name == 'friction' else 'positive'}, "
-                                 f"got {v!r}")
+            zero = name in ("friction", "thickness")
+            if v < 0 or (v == 0 and not zero):
+                raise ValueError(f"Contact.{name} must be {'non-negative' if zero else 'positive'}, got {v!r}")
             object.__setattr__(self, name, float(v))
         if not self.margin < 1:
             raise ValueError(f"Contact.margin must lie in (0, 1), got {self.margin!r}")

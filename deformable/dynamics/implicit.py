@@ -170,7 +170,8 @@ class Implicit(Scheme):
         xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and fl.contact is None else None
         if state.A is not None:
             start = fl.hold(xhat + (self.start * dt**2) * flat(state.A), X0, t1)
-        if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles allow
+        if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles (and the sheet
+            # against itself) allow
             fl.contact.lag(xn, dt)
             start = fl.hold(fl.contact.safe_start(xn, start - xn), X0, t1)
         try:

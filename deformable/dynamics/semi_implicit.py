@@ -88,6 +88,10 @@ class SemiImplicit(Scheme):
         self._lu_cache = None
         self._other: dict[float, SemiImplicit] = {}  # the same scheme at another dt (a run's shorter last step)
         self._repulsion = None
+        if model.scene.contact is not None and model.scene.contact.self_distance is not None:
+            raise ValueError(f"Contact.self_distance = {model.scene.contact.self_distance!r}: self-contact is a "
+                             "barrier in the implicit schemes' Newton method; the semi-implicit scheme has none (use "
+                             "an implicit scheme, or leave self_distance out)")
         if model.scene.obstacles:
             if model.scene.contact.method != "exponential":
                 raise ValueError("the semi-implicit scheme takes the paper's exponential obstacle force: set the "

@@ -5,7 +5,9 @@ r"""Where Newton's directions come from: the Newton matrix, its factorisation ke
 - the Newton matrix ``c_M M + c_C C + Hess E`` (+ the springs' Hessian and
   the wind's damping) lives on the Hessian's fixed pattern, reduced to the
   free degrees of freedom by precomputed gathers
-  (:class:`deformable.algebra.reduced.ReducedSystem`);
+  (:class:`deformable.algebra.reduced.ReducedSystem`); the self-contact's
+  Hessian, whose pattern follows the pairs in contact, on a pattern that
+  grows (``loose``);
 - a factorisation is made positive definite: by default ("auto") the exact
   Hessian's when the factorisation finds it positive definite (Cholesky in
   PARDISO, the pivots of SuperLU's LDL^T), else the *definite* Hessian's
@@ -90,7 +92,7 @@ class Directions:
             self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
-        A = self._system.free_block(H, *extra)
+        A = self._system.free_block(H, *extra, loose=p.loose_hessians(x))
         if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
             self.stiffness = np.zeros(3 * p.n)
             self.stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]

@@ -8,10 +8,12 @@ of freedom. :class:`FlatEnergy` gives its elastic part E over flat vectors
 backend contract's layout): the model's energy (the exact gradient of
 eq. (13), or the frozen model's quadratic energy), the scene's springs
 (:class:`deformable.physics.loads.Loads`) at the time :attr:`FlatEnergy.t`
-and, with obstacles, the barrier and friction
-(:class:`deformable.contact.potential.ContactPotential`), with their
+and, with obstacles or self-contact, the barriers and friction
+(:class:`deformable.contact.terms.ContactTerms`), with their
 gradients and Hessians, the mass and damping in the same layout, the applied
-loads and the held degrees of freedom.
+loads and the held degrees of freedom. The self-contact's Hessian changes
+its pattern with the pairs in contact: :meth:`FlatEnergy.loose_hessians`,
+apart from the fixed-pattern ones.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact.potential import ContactPotential
+from ..contact.terms import ContactTerms
 
 __all__ = ["FlatEnergy", "flat", "unflat"]
 
@@ -61,11 +63,11 @@ class FlatEnergy:
     linear : bool
         The Newton matrix does not depend on x (the frozen model, with linear springs at most, no wind, no
         obstacles).
-    contact : deformable.contact.ContactPotential or None
-        The barrier and friction of the scene's obstacles (None without obstacles).
+    contact : deformable.contact.terms.ContactTerms or None
+        The barrier and friction of the scene's obstacles and the sheet's self-contact barrier (None with neither).
     filter : DirectionFilter or None
         What changes and clips Newton's directions (:class:`deformable.solve.newton.DirectionFilter`): the contact,
-        with obstacles; None without.
+        when there is one; None without.
     """
 
     def __init__(self, model):
@@ -81,11 +83,12 @@ class FlatEnergy:
         self.free[self.fixed] = False
         self.loads = model.loads
         self.contact = None
-        if model.scene.obstacles:
-            if model.scene.contact.method != "barrier":
-                raise ValueError(f"contact method {model.scene.contact.method!r} (the paper's exponential force) is "
+        settings = model.scene.contact
+        if model.scene.obstacles or (settings is not None and settings.self_distance is not None):
+            if settings.method != "barrier":
+                raise ValueError(f"contact method {settings.method!r} (the paper's exponential force) is "
                                  "for the semi-implicit scheme; the implicit schemes and equilibrium take the barrier")
-            self.contact = ContactPotential(model)
+            self.contact = ContactTerms(model)
         self.filter = self.contact
         self.linear = bool(model.linear and self.loads.linear and self.contact is None)
         self.t = 0.0
@@ -117,11 +120,17 @@ class FlatEnergy:
         out = []
         if self.loads.potentials:
             out += self.loads.potential_hessians(unflat(x, self.n), self.t, self.factor)
-        if self.contact is not None:
+        if self.contact is not None and self.contact.obstacles is not None:
             out.append(self.contact.hessian(x, kind))
         if damping is not None:
             out.append(damping)
         return out
+
+    def loose_hessians(self, x) -> list:
+        """The matrices of the Newton matrix whose pattern changes from one x to the next: the self-contact's
+        Hessian (positive semi-definite), when the scene has self-contact."""
+        H = None if self.contact is None else self.contact.loose_hessian(x)
+        return [] if H is None else [H]
 
     def load(self, t: float) -> np.ndarray:
         """The applied loads at t (body, edge, point), flat (N)."""

@@ -1,0 +1,113 @@
+r"""A scene's contact terms in one potential: the obstacles' barrier and friction, the sheet's self-contact barrier.
+
+Newton's method (:mod:`deformable.solve.newton`) sees one contact term of the
+potential (:class:`deformable.solve.potential.FlatEnergy` holds it) and one
+direction filter; :class:`ContactTerms` is both, over whichever of the two
+parts the scene has:
+
+- the obstacles (:class:`deformable.contact.potential.ContactPotential`):
+  barrier and lagged friction, their Hessian on a fixed pattern, the exact
+  safe step of the analytic shapes, the contact normals solved against the
+  barrier (its ``propose``);
+- the sheet against itself (``Contact(self_distance=...)``,
+  :class:`deformable.contact.selfpotential.SelfContactPotential`): the barrier
+  on the contact mesh, whose Hessian's pattern follows the pairs in contact
+  (:meth:`ContactTerms.loose_hessian`), and the collision-free step of
+  continuous collision detection.
+
+Every direction is clipped to the smaller of the two safe steps
+(:meth:`ContactTerms.max_step`), so no iterate, tried or taken, carries a
+contact point into an obstacle or a fold through the sheet (Li et al. 2020,
+"Incremental Potential Contact", ACM TOG 39(4), section 4: the line search
+bounded by the collision-free step). The start of each implicit step is made
+safe the same way (:meth:`ContactTerms.safe_start`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .potential import ContactPotential
+from .selfpotential import SelfContactPotential
+
+__all__ = ["ContactTerms"]
+
+
+class ContactTerms:
+    """The barrier (and friction) of a scene's obstacles and of the sheet against itself (module docstring).
+
+    Parameters
+    ----------
+    model : Backend whose scene has obstacles, or a ``Contact(self_distance=...)``, with the barrier method
+
+    Attributes
+    ----------
+    obstacles : ContactPotential or None
+        The obstacles' barrier and friction (None without obstacles).
+    sheet : SelfContactPotential or None
+        The self-contact barrier (None without ``Contact.self_distance``).
+    """
+
+    def __init__(self, model):
+        scene = model.scene
+        settings = scene.contact
+        self.n = model.ndof
+        self.obstacles = ContactPotential(model) if scene.obstacles else None
+        self.sheet = None
+        if settings.self_distance is not None:
+            self.sheet = SelfContactPotential(model, settings.self_distance, margin=settings.margin,
+                                              thickness=settings.thickness)
+        self._parts = [p for p in (self.obstacles, self.sheet) if p is not None]
+
+    def energy(self, x) -> float:
+        """The barriers' and the friction's energy (J); +inf where a point is not outside an obstacle or the sheet
+        crosses itself (or comes closer than its thickness)."""
+        return sum(p.energy(x) for p in self._parts)
+
+    def gradient(self, x) -> np.ndarray:
+        """Their gradient, flat (3 ndof,) (N)."""
+        g = self._parts[0].gradient(x)
+        for p in self._parts[1:]:
+            g = g + p.gradient(x)
+        return g
+
+    def hessian(self, x, kind: str = "newton"):
+        """The obstacles' Hessian on its fixed pattern (3 ndof, 3 ndof) (N/m), None without obstacles."""
+        return None if self.obstacles is None else self.obstacles.hessian(x, kind)
+
+    def loose_hessian(self, x):
+        """The self-contact's positive semi-definite Hessian (3 ndof, 3 ndof) (N/m), whose pattern changes with the
+        pairs in contact; None without self-contact."""
+        return None if self.sheet is None else self.sheet.hessian(x)
+
+    def lag(self, x, dt: float) -> None:
+        """Freeze the obstacles' friction at the step's start x (flat), step dt (s)."""
+        if self.obstacles is not None:
+            self.obstacles.lag(x, dt)
+
+    def safe_start(self, x, dx) -> np.ndarray:
+        """A point between x and x + dx (flat) that keeps every contact point outside every obstacle (per degree of
+        freedom, :meth:`ContactPotential.safe_start`) and the sheet clear of itself (one fraction of the rest of
+        the way)."""
+        x1 = x + dx if self.obstacles is None else self.obstacles.safe_start(x, dx)
+        if self.sheet is None:
+            return x1
+        return x + self.sheet.max_step(x, x1 - x) * (x1 - x)
+
+    # -- the direction filter (deformable.solve.newton.DirectionFilter) ---------------------------------------
+    def max_step(self, x, dx) -> float:
+        """The largest fraction in (0, 1] of dx that keeps the obstacles' and the sheet's guarantee: the smaller of
+        the two safe steps."""
+        alpha = 1.0
+        for p in self._parts:
+            alpha = min(alpha, p.max_step(x, alpha * np.asarray(dx)) * alpha)
+        return alpha
+
+    def propose(self, x, dx, stiffness) -> np.ndarray:
+        """The obstacles' proposal (their contact normals solved against the barrier), else dx itself."""
+        return dx if self.obstacles is None else self.obstacles.propose(x, dx, stiffness)
+
+    def hessian_diagonal(self) -> np.ndarray:
+        """The diagonal of the obstacles' Hessian as last assembled (3 ndof,) (N/m): what :meth:`propose`'s 1-D
+        models leave out of the Newton matrix (the self-contact's stays in, as the rest of the matrix)."""
+        return np.zeros(3 * self.n) if self.obstacles is None else self.obstacles.hessian_diagonal()
