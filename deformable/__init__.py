@@ -61,6 +61,7 @@ from .errors import (
     NumericalError,
     OutputFolderError,
     ResourceError,
+    SelfContactIgnored,
     UnstableEquilibrium,
     WriteError,
 )
@@ -103,7 +104,7 @@ __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "
     "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",
     "CheckpointError", "OutputFolderError", "ResourceError", "WriteError", "NumericalError", "XDMFWriter",
     "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
-    "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff",
+    "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff", "SelfContactIgnored",
     "UnstableEquilibrium"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)

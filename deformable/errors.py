@@ -19,9 +19,10 @@ One hierarchy, so that a caller can tell "you asked for something wrong" from
 Warnings, all UserWarnings: :class:`IllPosedScene` (deformations that cost no
 energy), :class:`IncompatibleRestState` (rest tensors that fail the
 compatibility test of eq. (10)), :class:`LoadBelowRoundOff` (a load Newton's
-method cannot resolve against the elastic forces' round-off) and
+method cannot resolve against the elastic forces' round-off),
 :class:`UnstableEquilibrium` (an equilibrium whose Newton matrix has negative
-eigenvalues).
+eigenvalues) and :class:`SelfContactIgnored` (self-contact asked of the
+semi-implicit scheme, which has none).
 
 Every message of an :class:`InputError` names the field and the value it
 refuses, so the command line prints it as it is, in one line (exit code 2).
@@ -34,7 +35,7 @@ from __future__ import annotations
 
 __all__ = ["DeformableError", "InputError", "CheckpointError", "OutputFolderError", "ResourceError", "WriteError",
            "NumericalError", "DivergenceError", "StalledError", "ConvergenceError", "StepRejected", "SingularMatrix",
-           "IllPosedScene", "IncompatibleRestState", "LoadBelowRoundOff", "UnstableEquilibrium"]
+           "IllPosedScene", "IncompatibleRestState", "LoadBelowRoundOff", "UnstableEquilibrium", "SelfContactIgnored"]
 
 
 class DeformableError(Exception):
@@ -119,6 +120,11 @@ class IllPosedScene(UserWarning):
 
 class IncompatibleRestState(UserWarning):
     """The rest tensors G0, B0 of a scene fail the compatibility test of eq. (10)."""
+
+
+class SelfContactIgnored(UserWarning):
+    """A scene with self-contact (``Contact.self_distance``) run by the semi-implicit scheme, which has no barrier:
+    the sheet may pass through itself."""
 
 
 class LoadBelowRoundOff(UserWarning):

@@ -31,6 +31,10 @@ METHODS = ("barrier", "exponential")
 REST_FRACTION = 0.1
 
 
+#: the closing speed (m/s) of two folds that the default self-contact stiffness stops at a tenth of its reach
+SELF_SPEED = 2.0
+
+
 #: the exponential force's default strength c, in units of the sheet's weight per area
 REPULSION_STRENGTH = 100.0
 
@@ -70,10 +74,15 @@ class Contact:
     self_distance : float or None
         The activation distance of the self-contact barrier (m): the sheet
         against itself, beyond ``thickness`` (implicit schemes, a force model
-        with an energy); None: no self-contact.
+        with an energy); None or 0: no self-contact.
     thickness : float
         The sheet's thickness (m): no two primitives of the sheet's contact
         mesh that may touch come closer than it (0: they only never cross).
+    self_stiffness : float or None
+        The self-contact barrier's kappa (N/m^5); None: two folds closing at
+        ``self_speed`` stop at a gap of thickness + self_distance / 10.
+    self_speed : float
+        The closing speed (m/s) the default self-contact stiffness is sized for.
     """
 
     distance: float = 1e-3
@@ -86,12 +95,16 @@ class Contact:
     margin: float = 0.8
     self_distance: float | None = None
     thickness: float = 0.0
+    self_stiffness: float | None = None
+    self_speed: float = SELF_SPEED
 
     def __post_init__(self):
+        if self.self_distance == 0 and not isinstance(self.self_distance, bool):  # 0: off (a TOML file has no None)
+            object.__setattr__(self, "self_distance", None)
         for name in ("distance", "friction", "stiffness", "slip", "pressure", "margin", "self_distance",
-                     "thickness"):
+                     "thickness", "self_stiffness", "self_speed"):
             v = getattr(self, name)
-            if v is None and name in ("stiffness", "pressure", "self_distance"):
+            if v is None and name in ("stiffness", "pressure", "self_distance", "self_stiffness"):
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ValueError(f"Contact.{name} must be a finite number, got {v!r}")

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import StepRejected
+
 from .potential import ContactPotential
 from .selfpotential import SelfContactPotential
 
@@ -46,6 +48,9 @@ class ContactTerms:
         The obstacles' barrier and friction (None without obstacles).
     sheet : SelfContactPotential or None
         The self-contact barrier (None without ``Contact.self_distance``).
+    blocked : int
+        The steps :meth:`safe_start` rejected: their prescribed motion alone would have pressed the sheet through
+        itself.
     """
 
     def __init__(self, model):
@@ -55,9 +60,10 @@ class ContactTerms:
         self.obstacles = ContactPotential(model) if scene.obstacles else None
         self.sheet = None
         if settings.self_distance is not None:
-            self.sheet = SelfContactPotential(model, settings.self_distance, margin=settings.margin,
-                                              thickness=settings.thickness)
+            self.sheet = SelfContactPotential(model, settings.self_distance, settings.self_stiffness,
+                                              settings.margin, settings.thickness, settings.self_speed)
         self._parts = [p for p in (self.obstacles, self.sheet) if p is not None]
+        self.blocked = 0
 
     def energy(self, x) -> float:
         """The barriers' and the friction's energy (J); +inf where a point is not outside an obstacle or the sheet
@@ -85,14 +91,32 @@ class ContactTerms:
         if self.obstacles is not None:
             self.obstacles.lag(x, dt)
 
-    def safe_start(self, x, dx) -> np.ndarray:
+    def safe_start(self, x, dx, held=None) -> np.ndarray:
         """A point between x and x + dx (flat) that keeps every contact point outside every obstacle (per degree of
-        freedom, :meth:`ContactPotential.safe_start`) and the sheet clear of itself (one fraction of the rest of
-        the way)."""
+        freedom, :meth:`ContactPotential.safe_start`) and the sheet clear of itself.
+
+        ``held`` (int array): the degrees of freedom a constraint prescribes, whose part of dx is their prescribed
+        motion over the step; they move all of it. Against the sheet they move first, the others then take one
+        fraction of the rest of the way. When the prescribed motion alone would press the sheet through itself
+        or within its thickness, StepRejected: the time stepper retries a shorter step, over which the sheet has
+        less far to give way (:attr:`blocked` counts these).
+        """
+        dx = np.asarray(dx, float)
         x1 = x + dx if self.obstacles is None else self.obstacles.safe_start(x, dx)
+        held = np.zeros(0, np.int64) if held is None else np.asarray(held, np.int64)
+        x1[held] = x[held] + dx[held]
         if self.sheet is None:
             return x1
-        return x + self.sheet.max_step(x, x1 - x) * (x1 - x)
+        moved = np.zeros_like(dx)
+        moved[held] = dx[held]
+        if held.size and np.any(moved) and self.sheet.max_step(x, moved) < 1.0:
+            self.blocked += 1
+            raise StepRejected("the prescribed motion of the held degrees of freedom would press the sheet through "
+                               "itself (or within its thickness) within this step")
+        xh = x + moved
+        rest = x1 - x
+        rest[held] = 0.0
+        return xh + self.sheet.max_step(xh, rest) * rest
 
     # -- the direction filter (deformable.solve.newton.DirectionFilter) ---------------------------------------
     def max_step(self, x, dx) -> float:

@@ -34,13 +34,14 @@ schemes does.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
 from ..algebra.reduced import ReducedSystem
 from ..algebra.solvers import SPLU_OPTIONS, make_solver
 from ..contact.repulsion import Repulsion
-from ..errors import DivergenceError
+from ..errors import DivergenceError, SelfContactIgnored
 from .scheme import Scheme
 from .state import State
 
@@ -89,9 +90,10 @@ class SemiImplicit(Scheme):
         self._other: dict[float, SemiImplicit] = {}  # the same scheme at another dt (a run's shorter last step)
         self._repulsion = None
         if model.scene.contact is not None and model.scene.contact.self_distance is not None:
-            raise ValueError(f"Contact.self_distance = {model.scene.contact.self_distance!r}: self-contact is a "
-                             "barrier in the implicit schemes' Newton method; the semi-implicit scheme has none (use "
-                             "an implicit scheme, or leave self_distance out)")
+            warnings.warn(f"scene {model.scene.name!r}: Contact.self_distance = {model.scene.contact.self_distance!r} "
+                          "is left out: self-contact is a barrier in the implicit schemes' Newton method, and the "
+                          "semi-implicit scheme has none, so the sheet may pass through itself (use an implicit "
+                          "scheme for self-contact)", SelfContactIgnored, stacklevel=3)
         if model.scene.obstacles:
             if model.scene.contact.method != "exponential":
                 raise ValueError("the semi-implicit scheme takes the paper's exponential obstacle force: set the "

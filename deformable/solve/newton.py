@@ -39,11 +39,12 @@ implicit steps as a load and a damping (:mod:`deformable.dynamics.implicit`).
 
 Convergence tests (``NewtonSettings(test=...)``). "force": the max-norm of
 the free residual at most ``rtol`` times its scale. "step" (the default;
-it applies in time steps without obstacles, "force" elsewhere): also when a
-trusted direction moves no degree of freedom further than ``vtol dt`` (Li
-et al. 2020, IPC, section 5); x + d is then returned without a further
-gradient. A direction is trusted when it comes from a factorisation of the
-exact Newton matrix, or after the directions contracted at least twofold (a
+it applies in time steps without obstacles, with or without self-contact,
+"force" elsewhere): also when a trusted direction moves no degree of freedom
+further than ``vtol dt`` (Li et al. 2020, IPC, section 5) and the direction
+filter takes it whole; x + d is then returned without a further gradient. A
+direction is trusted when it comes from a factorisation of the exact Newton
+matrix, or after the directions contracted at least twofold (a
 definite fallback's). Under ``lag=True`` a factorisation outlives a solve
 that ended on the step test with no fallback, chords going on while they pay
 (:meth:`Directions.slow`, a count: the trajectory does not depend on the
@@ -281,9 +282,11 @@ class Newton:
             # at least twofold (the error left after it is then at most its own size)
             trusted = trusted or (last is not None and size <= 0.5 * last)
             if steps and trusted and size <= xtol and float(g @ d) < 0:
-                x, _ = self._clipped(x, d)
-                report.iterations, report.converged, report.by, report.step = it, True, "step", size
-                break
+                xt, alpha = self._clipped(x, d)
+                if alpha == 1.0:  # a step the filter cuts short is no converged one: it goes to the search
+                    x = xt
+                    report.iterations, report.converged, report.by, report.step = it, True, "step", size
+                    break
             t0 = time.perf_counter()
             slope = float(g @ d)
             newton = slope < 0

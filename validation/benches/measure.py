@@ -73,15 +73,21 @@ def grid_label(r) -> str:
     return f"{r.grid}{' nodes' if descriptor(r.backend).grid == 'nodes' else ' el.'}"
 
 
-def timed_steps(model, dt: float, steps: int, solver: str) -> tuple[float, float]:
-    """(s per step, Newton iterations per step) of ``steps`` implicit-Euler steps after one warm-up step."""
+def timed_steps(model, dt: float, steps: int, solver: str, probe=None) -> tuple:
+    """(s per step, Newton iterations per step) of ``steps`` implicit-Euler steps after one warm-up step; with
+    ``probe``, a function of the stepper, also what it returns of the timed steps, called before and after them:
+    (before, after) -> after minus before, key by key (a dict of seconds)."""
     stepper = TimeStepper(model, dt, newton=dict(solver=solver))
     state = stepper.step(stepper.start(model.initial_state()))
+    before = dict(probe(stepper)) if probe is not None else None
     t0 = time.perf_counter()
     for _ in range(steps):
         state = stepper.step(state)
     wall = (time.perf_counter() - t0) / steps
-    return wall, float(np.mean([r.iterations for r in stepper.newton_reports[1:]]))
+    iterations = float(np.mean([r.iterations for r in stepper.newton_reports[1:]]))
+    if probe is None:
+        return wall, iterations
+    return wall, iterations, {k: v - before.get(k, 0.0) for k, v in probe(stepper).items()}
 
 
 def write_csv(path: Path, rows, extra=()) -> None:

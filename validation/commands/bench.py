@@ -193,7 +193,8 @@ def execute(args) -> int:
     crows = [in_own_process(bench_contact, b, n, contact_steps, args.solver) for b in ("fd", "fe")
              for n in contact[b]]
     emit(out / "bench_contact.csv", crows, format_contact,
-          [("step_ratio", lambda r: r.step_ratio), ("iteration_ratio", lambda r: r.iteration_ratio)])
+          [("step_ratio", lambda r: r.step_ratio), ("iteration_ratio", lambda r: r.iteration_ratio),
+           ("self_ratio", lambda r: r.self_ratio), ("self_share", lambda r: r.self_share)])
     jobs = [(name, b, n) for name in names for b in ("fd", "fe") for n in scene_grids[b]]
     srows = []
     for k, (name, b, n) in enumerate(jobs, 1):  # minutes each: say which one runs

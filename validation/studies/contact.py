@@ -1,6 +1,7 @@
-r"""Study ``contact``: no penetration, friction's two regimes, the energy of an impact, the drape coefficient.
+r"""Study ``contact``: no penetration, friction's two regimes, the energy of an impact, the drape coefficient,
+self-contact.
 
-Four experiments on both backends (:mod:`deformable.contact`, the IPC barrier
+Five experiments on both backends (:mod:`deformable.contact`, the IPC barrier
 of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
 
 1. Clearance. The contact scenes ``floor``, ``sphere`` and ``drape`` on a
@@ -29,6 +30,9 @@ of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
    Expectation: the changes between levels fall (reported with the observed
    order log2 of the ratio of successive changes), and FD and FE agree
    within 2% at the finest level.
+5. Self-contact: no self-intersection at any step, the smallest
+   self-distance, the energy of a frictionless self-impact and the cost
+   (:mod:`validation.studies.selfcontact`).
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ from deformable.solve.potential import flat
 from validation.harness.backends import make_model
 from validation.harness.orders import pairwise_orders
 from validation.harness.study import Levels, Study, Table, nodes_at
+from validation.studies.selfcontact import fill_self
 
 #: the sheet of the inclined-plane and drop experiments: a light cloth, no air damping
 CLOTH = dict(mu=0.2, gamma=0.0, eta=np.full((2, 2), 20.0), xi=np.full((2, 2), 1e-5))
@@ -274,6 +279,7 @@ def fill(res, levels: int, runner) -> None:
                              "smallest clearance (m)"), rows))
     res.data["drape"] = dcs
     res.data["drape_orders"] = orders
+    fill_self(res, runner)
     res.findings.append(
         "The drape coefficient depends on where the table's rim holds the cloth. With contact points only at the "
         "nodes (FD) or at h / 2 (FE), the cloth is held only where a contact point lands on the table, and the "
@@ -297,5 +303,6 @@ NEWMARK_DT = (1e-3, 5e-4, 2.5e-4)
 #: how long the drape runs (s)
 DRAPE_T_END = 1.5
 
-STUDY = Study("contact", "contact: clearance, stick and slip on an incline, the energy of an impact, Cusick drape",
+STUDY = Study("contact", "contact: clearance, stick and slip on an incline, the energy of an impact, Cusick drape, "
+              "self-contact",
               Levels(quick=3, full=4, minimum=3, maximum=5), fill, in_default=False)

@@ -9,37 +9,17 @@ import pytest
 
 import deformable as dm
 from deformable.contact.selfmesh import ContactMesh
+from deformable.errors import SelfContactIgnored
 from fdmodel import FDModel
 from femodel import FEModel
-
-GAP, DHAT, SPEED = 0.1, 0.01, 5.0
-
-
-def u_fold(a1, a2):
-    """The unit sheet bent into a U across a2 (its arc length): flat legs GAP apart joined by a half circle."""
-    R = GAP / 2
-    s1 = (1.0 - math.pi * R) / 2
-    theta = np.clip((a2 - s1) / R, 0.0, math.pi)
-    y = np.where(a2 < s1, a2, np.where(theta < math.pi, s1 + R * np.sin(theta), s1 - (a2 - s1 - math.pi * R)))
-    z = np.where(a2 < s1, 0.0, R * (1 - np.cos(theta)))
-    return np.stack([np.asarray(a1, float) + 0 * y, y, z], -1)
-
-
-def closing(a1, a2):
-    """The legs' velocity: +SPEED at z = 0, -SPEED at z = GAP, linear in z between (m/s)."""
-    z = u_fold(a1, a2)[..., 2]
-    return np.stack([0 * z, 0 * z, SPEED * (1 - 2 * z / GAP)], -1)
+from validation.harness.folds import DHAT, GAP, closing, impact_scene
 
 
 def impact(cls, nodes, thickness=0.0, t_end=0.02):
-    full = np.full((2, 2), 1.0)
-    scene = dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(nodes, nodes), initial=u_fold),
-                     dm.Material(mu=0.1, gamma=0.0, eta=10.0 * full, xi=1e-4 * full),
-                     contact=dm.Contact(self_distance=DHAT, thickness=thickness), force_model="variational")
-    model = cls(scene)
+    model = cls(impact_scene(nodes, thickness))
     mesh = ContactMesh(model, DHAT)
     stepper = dm.TimeStepper(model, 1e-3, "implicit-euler")
-    states = list(stepper.iterate(model.initial_state(), V0=model.discretize(closing), t_end=t_end))
+    states = list(stepper.iterate(model.initial_state(), V0=model.discretize(closing()), t_end=t_end))
     return model, mesh, states
 
 
@@ -72,15 +52,55 @@ def test_fe_legs_meeting_at_5_m_s_never_cross_and_bounce_back():
     _check(model, mesh, states, 0.0)
 
 
-def test_self_contact_on_the_semi_implicit_scheme_is_refused_in_one_line():
+def test_self_contact_on_the_semi_implicit_scheme_is_left_out_with_a_warning():
     scene = dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(6, 6)), dm.Material(mu=0.1, eta=10.0, xi=1e-4),
                      contact=dm.Contact(self_distance=DHAT))
-    with pytest.raises(ValueError, match="self_distance"):
+    with pytest.warns(SelfContactIgnored, match="self_distance"):
         dm.TimeStepper(FDModel(scene), 1e-3, "semi-implicit")
 
 
-@pytest.mark.parametrize("field,value", [("self_distance", 0.0), ("self_distance", -1.0), ("thickness", -1e-3),
+@pytest.mark.parametrize("field,value", [("self_distance", -1.0), ("self_distance", math.nan), ("thickness", -1e-3),
                                          ("thickness", math.inf)])
 def test_contact_rejects_a_bad_self_distance_or_thickness_naming_it(field, value):
     with pytest.raises(ValueError, match=f"Contact.{field}"):
         dm.Contact(**{field: value})
+
+
+def test_a_self_distance_of_zero_turns_self_contact_off():
+    assert dm.Contact(self_distance=0.0).self_distance is None
+
+
+def test_the_curtain_has_self_contact_under_the_variational_model_only():
+    from deformable import scenes
+
+    assert scenes.build(scenes.config("curtain", nodes=(6, 6))).contact.self_distance == 4e-3
+    assert scenes.build(scenes.config("curtain", nodes=(6, 6), force_model="tpbf87")).contact is None
+    off = scenes.config("curtain", nodes=(6, 6)).replace(contact={"self_distance": 0.0})
+    assert scenes.build(off).contact.self_distance is None
+
+
+def test_a_prescribed_motion_through_the_sheet_rejects_the_step_and_a_free_one_starts_clear():
+    """The top leg's nodes held and prescribed to move down through the lower leg: the step's start refuses it
+    (StepRejected, counted as blocked), so the stepper retries shorter; a prescribed motion away from the lower leg
+    is taken whole, the free rest of the way clipped to keep the sheet clear of itself."""
+    from deformable.contact.terms import ContactTerms
+    from deformable.errors import StepRejected
+
+    model = FDModel(impact_scene(16, 2e-3))
+    terms = ContactTerms(model)
+    X = model.initial_state()
+    x, n = X.T.ravel(), model.ndof
+    held = 2 * n + np.flatnonzero(X[:, 2] > GAP - 1e-9)  # the upper leg's z coordinates
+    dx = np.zeros_like(x)
+    dx[held] = -2 * GAP  # through the lower leg and beyond
+    with pytest.raises(StepRejected, match="prescribed motion"):
+        terms.safe_start(x, dx, held)
+    assert terms.blocked == 1
+    lower = 2 * n + np.flatnonzero(X[:, 2] < 1e-9)
+    dx[held] = 0.01  # up, away
+    dx[lower] = 2 * GAP  # the lower leg's own (free) motion up through the upper one
+    start = terms.safe_start(x, dx, held)
+    np.testing.assert_allclose(start[held], x[held] + 0.01)
+    assert 0 < np.max(start[lower] - x[lower]) < 2 * GAP
+    mesh = terms.sheet.mesh
+    assert not mesh.intersects(start.reshape(3, n).T) and mesh.self_distance(start.reshape(3, n).T, GAP) > 2e-3

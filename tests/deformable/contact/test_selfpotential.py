@@ -11,6 +11,7 @@ import deformable as dm
 from deformable.contact.selfpotential import SelfContactPotential
 from fdmodel import FDModel
 from femodel import FEModel
+from validation.harness.folds import u_fold
 
 DHAT = 0.05
 
@@ -21,20 +22,6 @@ def _model(cls):
     scene = dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=nodes), dm.Material(mu=0.1, gamma=0.0, eta=10.0 * full,
                      xi=1e-4 * full), forces=[dm.Gravity()], force_model="variational")
     return cls(scene)
-
-
-def u_fold(gap: float):
-    """The sheet bent into a U across a2 (a2 its arc length): two flat legs ``gap`` apart joined by a half circle."""
-    R = gap / 2
-    s1 = (1.0 - math.pi * R) / 2
-
-    def r(a1, a2):
-        theta = np.clip((a2 - s1) / R, 0.0, math.pi)
-        y = np.where(a2 < s1, a2, np.where(theta < math.pi, s1 + R * np.sin(theta), s1 - (a2 - s1 - math.pi * R)))
-        z = np.where(a2 < s1, 0.0, R * (1 - np.cos(theta)))
-        return np.stack([np.asarray(a1, float) + 0 * y, y, z], -1)
-
-    return r
 
 
 def flat(X):

@@ -43,7 +43,10 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
         assert float(r["newton_free"]) >= 1 and float(r["newton_contact"]) >= 1 and int(r["contact_points"]) >= 36
         assert int(r["steps"]) == 3  # the contact rows' own window
         assert float(r["step_ratio"]) == pytest.approx(float(r["step_contact"]) / float(r["step_free"]), rel=1e-3)
-    assert "step ms, ball" in out
+        assert float(r["self_ratio"]) == pytest.approx(float(r["step_self"]) / float(r["step_contact"]), rel=1e-3)
+        parts = sum(float(r[f"self_{k}"]) for k in ("collisions", "barrier", "hessian", "ccd", "intersections"))
+        assert 0 < parts and float(r["self_share"]) == pytest.approx(parts / (3 * float(r["step_self"])), rel=1e-3)
+    assert "step ms, ball" in out and "self ratio" in out
 
 
 def test_row_lists_given_run_whatever_the_backend_and_unset_ones_follow_it(tmp_path, capsys):
