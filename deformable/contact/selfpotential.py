@@ -46,7 +46,10 @@ import scipy.sparse as sp
 from .selfmesh import ContactMesh
 from .settings import REST_FRACTION, SELF_SPEED
 
-__all__ = ["SelfContactPotential"]
+__all__ = ["SelfContactPotential", "PARTS"]
+
+#: the parts of the self-contact's time kept in :attr:`SelfContactPotential.seconds`
+PARTS = ("collisions", "barrier", "hessian", "ccd", "intersections")
 
 
 class SelfContactPotential:
@@ -105,7 +108,7 @@ class SelfContactPotential:
         self.WvT = self.Wv.T.tocsr()
         self._last = None  # (x, V, collisions) of the last state asked about
         self._zeros = np.zeros(3 * self.n)
-        self.seconds = dict.fromkeys(("collisions", "barrier", "hessian", "ccd", "intersections"), 0.0)
+        self.seconds = dict.fromkeys(PARTS, 0.0)
 
     def _clock(self, name: str, t0: float) -> None:
         self.seconds[name] += time.perf_counter() - t0

@@ -120,8 +120,9 @@ class FlatEnergy:
         out = []
         if self.loads.potentials:
             out += self.loads.potential_hessians(unflat(x, self.n), self.t, self.factor)
-        if self.contact is not None and self.contact.obstacles is not None:
-            out.append(self.contact.hessian(x, kind))
+        H = None if self.contact is None else self.contact.hessian(x, kind)  # None: no obstacles
+        if H is not None:
+            out.append(H)
         if damping is not None:
             out.append(damping)
         return out

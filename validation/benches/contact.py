@@ -27,15 +27,13 @@ from dataclasses import dataclass
 
 from deformable import scenes
 from deformable.contact.points import contact_points
+from deformable.contact.selfpotential import PARTS
 from validation.harness.backends import make_model
 from validation.harness.report import markdown_table
 
 from .measure import grid_label, peak_memory, scene_config, timed_steps
 
-__all__ = ["ContactRow", "bench_contact", "format_contact", "SELF_PARTS"]
-
-#: the self-contact's parts timed in a contact row
-SELF_PARTS = ("collisions", "barrier", "hessian", "ccd", "intersections")
+__all__ = ["ContactRow", "bench_contact", "format_contact"]
 
 
 @dataclass(frozen=True)
@@ -74,7 +72,7 @@ class ContactRow:
     def self_seconds(self) -> dict:
         """Wall seconds of the timed steps in the self-contact's parts
         (:attr:`deformable.contact.selfpotential.SelfContactPotential.seconds`)."""
-        return {k: getattr(self, f"self_{k}") for k in SELF_PARTS}
+        return {k: getattr(self, f"self_{k}") for k in PARTS}
 
     @property
     def self_share(self) -> float:
@@ -102,7 +100,7 @@ def bench_contact(backend: str, n: int, steps: int, solver: str = "auto") -> Con
     with_self, it_self, seconds = timed_steps(both, cfg.dt, steps, solver,
                                               probe=lambda stepper: stepper.newton.problem.contact.sheet.seconds)
     return ContactRow(backend, f"{n}x{n}", 3 * model.ndof, contact_points(model).P, steps, it_ball, it_free,
-                      with_ball, without, it_self, with_self, *(seconds[k] for k in SELF_PARTS), peak_memory())
+                      with_ball, without, it_self, with_self, *(seconds[k] for k in PARTS), peak_memory())
 
 
 def format_contact(rows) -> str:

@@ -64,24 +64,23 @@ IMPACT_DT = (1e-3, 5e-4, 2.5e-4)
 
 
 def _model(case: SelfCase):
-    """The case's model and the dt it runs at."""
+    """The case's model, the dt it runs at, its scene and the scene's own contact settings (with self-contact)."""
     if case.kind == "impact":
         scene, dt = impact_scene(case.nodes), 1e-3
     else:
         cfg = scenes.config(case.kind, nodes=(case.nodes, case.nodes))
         scene, dt = scenes.build(cfg), cfg.dt
+    own = scene.contact
     if not case.on:
-        scene = dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, self_distance=None)
+        scene = dataclasses.replace(scene, contact=dataclasses.replace(own, self_distance=None)
                                     if scene.obstacles else None)
-    return make_model(scene, case.backend), dt, scene
+    return make_model(scene, case.backend), dt, scene, own
 
 
 def run_self(case: SelfCase) -> dict:
     """Run a case, measuring at every step whether the contact mesh intersects itself and its smallest
     self-distance (within 3 activation distances), and the obstacles' clearance."""
-    model, dt, scene = _model(case)
-    own = impact_scene(case.nodes).contact if case.kind == "impact" else scenes.build(
-        scenes.config(case.kind, nodes=(case.nodes, case.nodes))).contact
+    model, dt, scene, own = _model(case)
     mesh = ContactMesh(model, own.self_distance, thickness=own.thickness)
     stepper = dm.TimeStepper(model, dt)
     V0 = model.discretize(closing()) if case.kind == "impact" else None
@@ -107,7 +106,8 @@ def run_self(case: SelfCase) -> dict:
     d = np.array(distances)
     return {"steps": result.steps, "crossed": crossed, "distance": float(d.min()),
             "when": float(times[int(np.argmin(d))]), "thickness": own.thickness, "clearance": clear,
-            "blocked": 0 if terms is None else terms.blocked, "lag": lag, "seconds": seconds, "series": [times, [x if math.isfinite(x) else None for x in d]]}
+            "blocked": 0 if terms is None else terms.blocked, "lag": lag, "seconds": seconds,
+            "series": [times, [x if math.isfinite(x) else None for x in d]]}
 
 
 def run_self_energy(case: tuple) -> dict:
@@ -148,7 +148,7 @@ def fill_self(res, runner) -> None:
     res.tables.append(Table("self_contact", "Self-contact: intersections and the smallest self-distance at every step",
                             ("run", "steps", "steps intersecting, with", "steps intersecting, without",
                              "smallest self-distance, with (m)", "at t (s)", "thickness (m)",
-                             "steps whose prescribed motion the sheet cut short",
+                             "steps rejected: their prescribed motion would press the sheet through itself",
                              "largest lag of the prescribed motion (m)"), rows))
     res.tables.append(Table("self_contact_cost", "Self-contact's cost: wall time of each run with and without (both "
                             "with the same measurements at every step)",
