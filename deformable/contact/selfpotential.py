@@ -126,6 +126,9 @@ class SelfContactPotential:
         self._clock("collisions", t0)
         return V, collisions
 
+    def lag(self, x, dt: float) -> None:
+        """Freeze the friction between folds at the step's start x (flat), step dt (s): none yet."""
+
     def energy(self, x) -> float:
         """S(x) (J); +inf where the mesh intersects itself or two primitives that may touch are not more than the
         thickness apart."""

@@ -87,9 +87,10 @@ class ContactTerms:
         return None if self.sheet is None else self.sheet.hessian(x)
 
     def lag(self, x, dt: float) -> None:
-        """Freeze the obstacles' friction at the step's start x (flat), step dt (s)."""
-        if self.obstacles is not None:
-            self.obstacles.lag(x, dt)
+        """Freeze the friction (the obstacles' and the sheet's against itself) at the step's start x (flat), step dt
+        (s)."""
+        for p in self._parts:
+            p.lag(x, dt)
 
     def safe_start(self, x, dx, held=None) -> np.ndarray:
         """A point between x and x + dx (flat) that keeps every contact point outside every obstacle (per degree of
