@@ -31,8 +31,9 @@ line live in ``validation``.
 import warnings
 
 from .backends.contract import Backend, EnergyBackend, Sample
+from .contact.meshobstacle import MeshObstacle
 from .contact.obstacles import Box, Cylinder, HalfSpace, Sphere
-from .contact.points import clearance
+from .contact.clearance import clearance
 from .contact.selfmesh import ContactMesh
 from .contact.settings import Contact
 from .dynamics import (
@@ -104,7 +105,8 @@ __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "
     "EnergyMonitor", "ProgressBar", "Stop", "Tracker", "__version__", "DeformableError", "InputError",
     "CheckpointError", "OutputFolderError", "ResourceError", "WriteError", "NumericalError", "XDMFWriter",
     "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
-    "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "LoadBelowRoundOff", "SelfContactIgnored",
+    "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "MeshObstacle",
+    "LoadBelowRoundOff", "SelfContactIgnored",
     "UnstableEquilibrium"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)

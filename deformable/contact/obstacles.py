@@ -62,6 +62,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 
@@ -145,10 +146,20 @@ def box_distance(p: np.ndarray, e: np.ndarray, hessian: bool = True):
 
 @dataclass(frozen=True)
 class Obstacle(Registered, family="obstacle"):
-    """A rigid convex obstacle (module docstring); subclasses give :meth:`derivatives`.
+    """A rigid obstacle: a convex analytic shape (module docstring), whose subclasses give :meth:`derivatives`, or
+    a triangle mesh (:class:`deformable.contact.meshobstacle.MeshObstacle`, ``analytic`` False), which has none.
 
     Every method takes points x as an array (P, 3) in scene units (m).
+
+    Class attributes
+    ----------------
+    analytic : bool
+        Whether the shape has a signed distance (:meth:`derivatives`): the sheet then meets it at its contact
+        points (:mod:`deformable.contact.potential`); a mesh meets the sheet's triangles
+        (:mod:`deformable.contact.meshpotential`).
     """
+
+    analytic: ClassVar[bool] = True
 
     @property
     def kind(self) -> str:

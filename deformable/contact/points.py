@@ -14,13 +14,12 @@ Non-penetration is guaranteed at the contact points: between them the surface
 may cut a curved obstacle by its chord's sag, about h^2 / (8 R) for FD's
 bilinear cells of side h over a radius R (``Contact(samples=2)`` quarters it).
 
-:func:`contact_points` builds them once per model; :func:`clearance` and
-:func:`require_outside` measure a state against the scene's obstacles.
+:func:`contact_points` builds them once per model; :func:`require_outside` checks a state against the scene's
+analytic obstacles (every kind: :mod:`deformable.contact.clearance`).
 """
 
 from __future__ import annotations
 
-import math
 import weakref
 
 import numpy as np
@@ -28,7 +27,7 @@ import scipy.sparse as sp
 
 from ..algebra.patterns import BlockPattern, FixedPattern
 
-__all__ = ["ContactPoints", "subgrid", "contact_points", "require_outside", "clearance"]
+__all__ = ["ContactPoints", "subgrid", "contact_points", "require_outside"]
 
 
 # -- contact points ---------------------------------------------------------------------
@@ -154,29 +153,15 @@ def contact_points(model, samples: int | None = None) -> ContactPoints:
 
 def require_outside(model, X: np.ndarray, what: str = "the state") -> None:
     """Raise a ValueError naming the deepest contact point when one of X (ndof, 3) is not strictly outside every
-    obstacle of the scene (the barrier is infinite there: no step can start from such a state)."""
+    analytic obstacle of the scene (the barrier is infinite there: no step can start from such a state); the mesh
+    obstacles: :func:`deformable.contact.clearance.require_clear`."""
     r = contact_points(model).positions(np.asarray(X, float))
     for k, obstacle in enumerate(model.scene.obstacles):
+        if not obstacle.analytic:
+            continue
         d = obstacle.distance(r)
         p = int(np.argmin(d))
         if d[p] <= 0:
             a = contact_points(model).a[p]
             raise ValueError(f"{what}: contact point a = ({a[0]:.4g}, {a[1]:.4g}) m lies {-d[p]:.3g} m inside "
                              f"obstacle {k} ({obstacle.kind}); every contact point must start outside every obstacle")
-
-
-def clearance(model, X: np.ndarray, obstacles=None) -> float:
-    """The smallest signed distance from the sheet's contact points to the obstacles (m); negative: penetration.
-
-    Parameters
-    ----------
-    model : Backend
-    X : array (ndof, 3)
-    obstacles : sequence of Obstacle, optional
-        Default the scene's. Without obstacles the clearance is infinite.
-    """
-    obstacles = model.scene.obstacles if obstacles is None else tuple(obstacles)
-    if not obstacles:
-        return math.inf
-    r = contact_points(model).positions(np.asarray(X, float))
-    return float(min(np.min(o.distance(r)) for o in obstacles))

@@ -145,7 +145,7 @@ class ContactPotential:
         scene = model.scene
         self.model, self.n = model, model.ndof
         self.settings: Contact = scene.contact
-        self.obstacles: tuple[Obstacle, ...] = tuple(scene.obstacles)
+        self.obstacles: tuple[Obstacle, ...] = tuple(o for o in scene.obstacles if o.analytic)  # meshes: meshpotential
         self.points = contact_points(model)
         self.dhat = self.settings.distance
         self.kappa = self.settings.barrier_stiffness(weight_per_area(scene))

@@ -24,10 +24,11 @@ import math
 
 import ipctk
 import numpy as np
+import scipy.sparse as sp
 
 from .points import contact_points
 
-__all__ = ["ContactMesh", "grid_triangles"]
+__all__ = ["ContactMesh", "grid_triangles", "vertex_map"]
 
 
 def grid_triangles(shape: tuple[int, int]) -> np.ndarray:
@@ -40,6 +41,17 @@ def grid_triangles(shape: tuple[int, int]) -> np.ndarray:
     a, b = (i * n + j).ravel(), ((i + 1) * n + j).ravel()
     c, d = ((i + 1) * n + j + 1).ravel(), (i * n + j + 1).ravel()
     return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)]).astype(np.int32)
+
+
+def vertex_map(W) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The map (3 P, 3 ndof) from a flat coordinate-blocked state x (a ndof + k) to the contact mesh's vertices as
+    the IPC Toolkit orders them (3 p + a), for the map W (P, ndof) of the contact points; and its transpose,
+    which takes the toolkit's gradients (3 P,) back to the degrees of freedom."""
+    P = W.shape[0]
+    W3 = sp.kron(sp.identity(3, format="csr"), W, format="csr")
+    order = (3 * np.arange(P)[None, :] + np.arange(3)[:, None]).ravel()  # blocked index a P + p -> 3 p + a
+    Wv = W3[np.argsort(order)].tocsr()
+    return Wv, Wv.T.tocsr()
 
 
 class ContactMesh:

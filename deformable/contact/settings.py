@@ -6,8 +6,9 @@ the friction's smoothing speed, the contact points per cell side, the method
 (the barrier of the implicit schemes, or the paper's exponential force of
 the semi-implicit scheme) and the fraction of a safe step a Newton step may
 take (:mod:`deformable.contact.potential`, :mod:`deformable.contact.repulsion`),
-and the sheet against itself: the self-contact's activation distance and the
-sheet's thickness (:mod:`deformable.contact.selfpotential`).
+and the sheet against itself: the self-contact's activation distance, the
+sheet's thickness and Coulomb's coefficient between its folds
+(:mod:`deformable.contact.selfpotential`).
 """
 
 from __future__ import annotations
@@ -59,8 +60,9 @@ class Contact:
         The barrier's kappa (N/m^3); None: the sheet's own weight rests at
         dhat / 10.
     slip : float
-        eps_v (m/s): below this tangential speed friction is smoothed (a creep
-        instead of a stick).
+        eps_v (m/s): below this tangential speed friction (against the
+        obstacles and between folds of the sheet) is smoothed (a creep instead
+        of a stick).
     samples : int or None
         Contact points per cell side; None: the backend's own (FD 1, the
         nodes; FE 2).
@@ -83,6 +85,9 @@ class Contact:
         ``self_speed`` stop at a gap of thickness + self_distance / 10.
     self_speed : float
         The closing speed (m/s) the default self-contact stiffness is sized for.
+    self_friction : float
+        Coulomb's coefficient between folds of the sheet (0: frictionless),
+        smoothed below ``slip`` as the obstacles' friction is.
     """
 
     distance: float = 1e-3
@@ -97,18 +102,19 @@ class Contact:
     thickness: float = 0.0
     self_stiffness: float | None = None
     self_speed: float = SELF_SPEED
+    self_friction: float = 0.0
 
     def __post_init__(self):
         if self.self_distance == 0 and not isinstance(self.self_distance, bool):  # 0: off (a TOML file has no None)
             object.__setattr__(self, "self_distance", None)
         for name in ("distance", "friction", "stiffness", "slip", "pressure", "margin", "self_distance",
-                     "thickness", "self_stiffness", "self_speed"):
+                     "thickness", "self_stiffness", "self_speed", "self_friction"):
             v = getattr(self, name)
             if v is None and name in ("stiffness", "pressure", "self_distance", "self_stiffness"):
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ValueError(f"Contact.{name} must be a finite number, got {v!r}")
-            zero = name in ("friction", "thickness")
+            zero = name in ("friction", "thickness", "self_friction")
             if v < 0 or (v == 0 and not zero):
                 raise ValueError(f"Contact.{name} must be {'non-negative' if zero else 'positive'}, got {v!r}")
             object.__setattr__(self, name, float(v))

@@ -9,13 +9,16 @@ parts the scene has:
   barrier and lagged friction, their Hessian on a fixed pattern, the exact
   safe step of the analytic shapes, the contact normals solved against the
   barrier (its ``propose``);
+- the mesh obstacles (:class:`deformable.contact.meshpotential.MeshObstaclePotential`): the barrier between the
+  sheet's triangles and theirs, whose Hessian's pattern follows the pairs in contact, the collision-free step of
+  continuous collision detection, and a moving obstacle's prescribed motion over the step;
 - the sheet against itself (``Contact(self_distance=...)``,
   :class:`deformable.contact.selfpotential.SelfContactPotential`): the barrier
   on the contact mesh, whose Hessian's pattern follows the pairs in contact
-  (:meth:`ContactTerms.loose_hessian`), and the collision-free step of
+  (:meth:`ContactTerms.loose_hessians`), and the collision-free step of
   continuous collision detection.
 
-Every direction is clipped to the smaller of the two safe steps
+Every direction is clipped to the smallest of the safe steps
 (:meth:`ContactTerms.max_step`), so no iterate, tried or taken, carries a
 contact point into an obstacle or a fold through the sheet (Li et al. 2020,
 "Incremental Potential Contact", ACM TOG 39(4), section 4: the line search
@@ -29,8 +32,12 @@ import numpy as np
 
 from ..errors import StepRejected
 
+from .barrier import barrier_derivative
+from .meshpotential import MeshObstaclePotential
 from .potential import ContactPotential
 from .selfpotential import SelfContactPotential
+from .trianglebarrier import motion_stiffness
+from .settings import REST_FRACTION, weight_per_area
 
 __all__ = ["ContactTerms"]
 
@@ -45,7 +52,9 @@ class ContactTerms:
     Attributes
     ----------
     obstacles : ContactPotential or None
-        The obstacles' barrier and friction (None without obstacles).
+        The analytic obstacles' barrier and friction (None without them).
+    meshes : MeshObstaclePotential or None
+        The mesh obstacles' barrier (None without them).
     sheet : SelfContactPotential or None
         The self-contact barrier (None without ``Contact.self_distance``).
     blocked : int
@@ -57,13 +66,32 @@ class ContactTerms:
         scene = model.scene
         settings = scene.contact
         self.n = model.ndof
-        self.obstacles = ContactPotential(model) if scene.obstacles else None
+        analytic = [o for o in scene.obstacles if o.analytic]
+        meshes = [o for o in scene.obstacles if not o.analytic]
+        self.obstacles = ContactPotential(model) if analytic else None
+        self.meshes = None
+        if meshes:  # the pressure under which the sheet rests at dhat / 10 is the analytic obstacles' (settings)
+            d = settings.distance
+            pressure = settings.barrier_stiffness(weight_per_area(scene)) * -float(
+                barrier_derivative(np.array([REST_FRACTION * d]), d)[0])
+            limit = motion_stiffness(float(np.max(scene.nodal_material().mu)), settings.self_speed, d)
+            self.meshes = MeshObstaclePotential(model, meshes, d, pressure, limit, settings.margin, settings.friction,
+                                                settings.slip)
         self.sheet = None
         if settings.self_distance is not None:
             self.sheet = SelfContactPotential(model, settings.self_distance, settings.self_stiffness,
-                                              settings.margin, settings.thickness, settings.self_speed)
-        self._parts = [p for p in (self.obstacles, self.sheet) if p is not None]
+                                              settings.margin, settings.thickness, settings.self_speed,
+                                              friction=settings.self_friction, slip=settings.slip)
+        self._parts = [p for p in (self.obstacles, self.meshes, self.sheet) if p is not None]
+        self._loose = [p for p in (self.meshes, self.sheet) if p is not None]
         self.blocked = 0
+
+    @property
+    def step_test(self) -> bool:
+        """Whether Newton's step test may end a solve (:mod:`deformable.solve.newton`, "Convergence tests"): not with
+        analytic obstacles, whose proposals (:meth:`propose`) change Newton's directions; the CCD parts (mesh
+        obstacles, self-contact) only cut a direction short, and a direction cut short ends no solve."""
+        return self.obstacles is None
 
     def energy(self, x) -> float:
         """The barriers' and the friction's energy (J); +inf where a point is not outside an obstacle or the sheet
@@ -81,43 +109,62 @@ class ContactTerms:
         """The obstacles' Hessian on its fixed pattern (3 ndof, 3 ndof) (N/m), None without obstacles."""
         return None if self.obstacles is None else self.obstacles.hessian(x, kind)
 
-    def loose_hessian(self, x):
-        """The self-contact's positive semi-definite Hessian (3 ndof, 3 ndof) (N/m), whose pattern changes with the
-        pairs in contact; None without self-contact."""
-        return None if self.sheet is None else self.sheet.hessian(x)
+    def loose_hessians(self, x) -> list:
+        """The mesh obstacles' and the self-contact's positive semi-definite Hessians (3 ndof, 3 ndof) (N/m), whose
+        patterns change with the pairs in contact (none without either)."""
+        return [p.hessian(x) for p in self._loose]
 
-    def lag(self, x, dt: float) -> None:
+    def lag(self, x, dt: float, t: float | None = None) -> None:
         """Freeze the friction (the obstacles' and the sheet's against itself) at the step's start x (flat), step dt
-        (s)."""
+        (s) ending at t (s): the moving mesh obstacles stand where they are at t (default: where they stand)."""
+        if self.meshes is not None and t is not None:
+            self.meshes.move(t - dt, t)
         for p in self._parts:
             p.lag(x, dt)
 
     def safe_start(self, x, dx, held=None) -> np.ndarray:
-        """A point between x and x + dx (flat) that keeps every contact point outside every obstacle (per degree of
-        freedom, :meth:`ContactPotential.safe_start`) and the sheet clear of itself.
+        """A point between x and x + dx (flat) that keeps every contact point outside every analytic obstacle (per
+        degree of freedom, :meth:`ContactPotential.safe_start`), the sheet clear of the mesh obstacles where they
+        stand at the step's end, and clear of itself.
 
         ``held`` (int array): the degrees of freedom a constraint prescribes, whose part of dx is their prescribed
-        motion over the step; they move all of it. Against the sheet they move first, the others then take one
-        fraction of the rest of the way. When the prescribed motion alone would press the sheet through itself
-        or within its thickness, StepRejected: the time stepper retries a shorter step, over which the sheet has
-        less far to give way (:attr:`blocked` counts these).
+        motion over the step; they move all of it. Against the meshes and the sheet, that motion and the mesh
+        obstacles' own come first; the others then take one fraction of the rest of the way (all of it when the
+        whole step, the obstacles moving with it, is collision-free: a sheet carried by a moving obstacle moves
+        with it). When the prescribed motion alone would press the sheet through itself or an obstacle through
+        the sheet (or within the thickness), StepRejected: the time stepper retries a shorter step, over which the
+        sheet has less far to give way (:attr:`blocked` counts these).
         """
         dx = np.asarray(dx, float)
         x1 = x + dx if self.obstacles is None else self.obstacles.safe_start(x, dx)
         held = np.zeros(0, np.int64) if held is None else np.asarray(held, np.int64)
         x1[held] = x[held] + dx[held]
-        if self.sheet is None:
+        if not self._loose:
             return x1
+        if self.meshes is not None and self.meshes.t0 != self.meshes.t1 and min(
+                self.meshes.prescribed_step(x, x1 - x), 1.0 if self.sheet is None else self.sheet.max_step(x, x1 - x)
+        ) >= 1.0:
+            return x1  # the whole step with the obstacles' motion is collision-free
         moved = np.zeros_like(dx)
         moved[held] = dx[held]
-        if held.size and np.any(moved) and self.sheet.max_step(x, moved) < 1.0:
+        first = np.zeros(dx.size, bool)  # what moves first: the held degrees of freedom, and what obstacles carry
+        first[held] = True
+        if self.meshes is not None and self.meshes.prescribed_step(x, moved) < 1.0:
+            carried = self.meshes.carry(x, moved, held) - x  # the sheet near a moving obstacle rides with it
+            if self.meshes.prescribed_step(x, carried) < 1.0:
+                self.blocked += 1
+                raise StepRejected("the prescribed motion of a mesh obstacle (or of the held degrees of freedom) "
+                                   "would strike the sheet within this step")
+            first |= carried != 0
+            moved = carried
+        if self.sheet is not None and np.any(moved) and self.sheet.max_step(x, moved) < 1.0:
             self.blocked += 1
-            raise StepRejected("the prescribed motion of the held degrees of freedom would press the sheet through "
-                               "itself (or within its thickness) within this step")
+            raise StepRejected("the prescribed motion of the held degrees of freedom (or of a mesh obstacle) would "
+                               "press the sheet through itself (or within its thickness) within this step")
         xh = x + moved
         rest = x1 - x
-        rest[held] = 0.0
-        return xh + self.sheet.max_step(xh, rest) * rest
+        rest[first] = 0.0
+        return xh + min(p.max_step(xh, rest) for p in self._loose) * rest
 
     # -- the direction filter (deformable.solve.newton.DirectionFilter) ---------------------------------------
     def max_step(self, x, dx) -> float:

@@ -166,15 +166,14 @@ class Implicit(Scheme):
         # predictor with the last acceleration, x-hat + dt^2 a_n (implicit Euler) or x-hat + dt^2 a_n / 2 (Newmark)
         start = fl.hold(xhat, X0, t1)
         scale = float(np.max(np.abs(grad(start, contact=False)[fl.free]), initial=0.0))
-        # the step test, in a step without obstacles (deformable.solve.newton, "Convergence tests"); self-contact
-        # alone keeps it
-        obstacles = fl.contact is not None and fl.contact.obstacles is not None
-        xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and not obstacles else None
+        # the step test (deformable.solve.newton, "Convergence tests"), unless the contact changes Newton's directions
+        tested = fl.contact is None or fl.contact.step_test
+        xtol = self.newton.settings.vtol * dt if self.newton.settings.test == "step" and tested else None
         if state.A is not None:
             start = fl.hold(xhat + (self.start * dt**2) * flat(state.A), X0, t1)
         if fl.contact is not None:  # friction lagged at x_n; the start no further than the obstacles (and the sheet
             # against itself) allow
-            fl.contact.lag(xn, dt)
+            fl.contact.lag(xn, dt, t1)
             try:  # the held ones at their prescribed values at t1, unless that presses the sheet through itself
                 start = fl.contact.safe_start(xn, start - xn, fl.fixed)
             except StepRejected as err:

@@ -95,6 +95,11 @@ class SemiImplicit(Scheme):
                           "semi-implicit scheme has none, so the sheet may pass through itself (use an implicit "
                           "scheme for self-contact)", SelfContactIgnored, stacklevel=3)
         if model.scene.obstacles:
+            meshes = [o for o in model.scene.obstacles if not o.analytic]
+            if meshes:
+                raise ValueError(f"the semi-implicit scheme takes the paper's exponential obstacle force, which needs a "
+                                 f"signed distance; a {meshes[0].kind} obstacle has none: use an implicit scheme, "
+                                 "whose barrier meets it triangle against triangle")
             if model.scene.contact.method != "exponential":
                 raise ValueError("the semi-implicit scheme takes the paper's exponential obstacle force: set the "
                                  "contact method to 'exponential' (it does not guarantee non-penetration), or use an "

@@ -280,10 +280,14 @@ def gif_bytes(images, fps: float = 12.0, colors: int = 96) -> bytes:
                 optimize=True)
     return buf.getvalue()
 
-def obstacle_mesh(obstacle, bounds: np.ndarray):
-    """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3)."""
+def obstacle_mesh(obstacle, bounds: np.ndarray, t: float = 0.0):
+    """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3); a mesh
+    obstacle its own triangles where they are at time t (s)."""
     pv = offscreen_pyvista()
     kind = obstacle.kind
+    if not obstacle.analytic:
+        F = np.asarray(obstacle.triangles)
+        return pv.PolyData(np.asarray(obstacle.points(t)), np.column_stack([np.full(len(F), 3), F]).ravel())
     if kind == "sphere":
         return pv.Sphere(radius=obstacle.radius, center=obstacle.center, theta_resolution=64, phi_resolution=64)
     r = getattr(obstacle, "rounding", 0.0)  # a rounded solid is drawn as its sharp core, never outside it
@@ -355,6 +359,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     pts = np.concatenate([f[1] for f in frames])
     bounds = np.array([pts.min(axis=0), pts.max(axis=0)])
     meshes = [obstacle_mesh(o, bounds) for o in obstacles]
+    moving = any(getattr(o, "moving", False) for o in obstacles)  # a mesh obstacle on its path: drawn at each t
     view = camera(bounds)
     digits = time_digits([f[0] for f in frames])
     out_dir = Path(out_dir)
@@ -369,6 +374,8 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
         bar = tqdm(total=len(frames), desc="rendering", unit="frame", disable=not sys.stderr.isatty(), leave=False)
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
+            if moving:
+                meshes = [obstacle_mesh(o, bounds, t) for o in obstacles]
             image = frame_image([[Panel(points, np.ravel(v), title, t)]], size, faces=faces, field=field, clim=clim,
                                 view=view, obstacles=meshes, digits=digits)
             png = out_dir / f"frame-{k:05d}.png"

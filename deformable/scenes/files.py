@@ -14,6 +14,10 @@ A scene file names its scene and overrides fields of its config::
     center = [0.5, 0.6, -0.3]
     radius = 0.2
 
+    [[obstacles]]        # a triangle mesh meshio reads (deformable.MeshObstacle), relative to the file's folder
+    kind = "mesh"
+    path = "chair.obj"
+
 An unknown key is an error naming it and the known ones. :func:`to_toml`
 writes a resolved config that :func:`read_toml` reads back to an equal
 config, with the command's own settings in a ``[run]`` table
@@ -23,6 +27,7 @@ config, with the command's own settings in a ``[run]`` table
 from __future__ import annotations
 
 from dataclasses import fields
+from pathlib import Path
 
 from .. import tomlio
 from ..checks import known_keys
@@ -51,12 +56,15 @@ def read_toml(path, **overrides) -> SceneConfig:
         bad value.
     """
     _, text = tomlio.load(path)
-    return read_toml_text(text, source=str(path), **overrides)
+    return read_toml_text(text, source=str(path), base=Path(path).parent, **overrides)
 
 
-def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneConfig:
-    """Like :func:`read_toml`, from TOML text; ``source`` names it in error messages."""
+def read_toml_text(text: str, source: str = "<string>", base=None, **overrides) -> SceneConfig:
+    """Like :func:`read_toml`, from TOML text; ``source`` names it in error messages, ``base`` is the folder a
+    mesh obstacle's relative ``path`` is relative to (default: the working directory)."""
     data = tomlio.loads(text, source)
+    if base is not None and isinstance(data.get("obstacles"), list):
+        data["obstacles"] = [_beside(t, Path(base)) for t in data["obstacles"]]
     if "scene" not in data:
         raise InputError(f"scene file {source!r} must name its scene, e.g. scene = \"curtain\"", field="scene")
     name = data.pop("scene")
@@ -71,6 +79,14 @@ def read_toml_text(text: str, source: str = "<string>", **overrides) -> SceneCon
     cls = SceneConfig.lookup(name)
     known_keys(data, sorted(f.name for f in fields(cls)), f"in scene file {source!r}")
     return SceneSpec(cls).config(**{**data, **overrides})  # the command line wins over the file
+
+
+def _beside(table, base: Path):
+    """An [[obstacles]] table whose relative mesh ``path`` is made relative to ``base``, the scene file's folder."""
+    if isinstance(table, dict) and table.get("kind") == "mesh" and isinstance(table.get("path"), str) \
+            and not Path(table["path"]).is_absolute():
+        return {**table, "path": str(base / table["path"])}
+    return table
 
 
 def run_table(text: str, source: str = "<string>") -> dict:

@@ -128,10 +128,9 @@ class FlatEnergy:
         return out
 
     def loose_hessians(self, x) -> list:
-        """The matrices of the Newton matrix whose pattern changes from one x to the next: the self-contact's
-        Hessian (positive semi-definite), when the scene has self-contact."""
-        H = None if self.contact is None else self.contact.loose_hessian(x)
-        return [] if H is None else [H]
+        """The matrices of the Newton matrix whose pattern changes from one x to the next: the mesh obstacles' and
+        the self-contact's Hessians (positive semi-definite), when the scene has them."""
+        return [] if self.contact is None else self.contact.loose_hessians(x)
 
     def load(self, t: float) -> np.ndarray:
         """The applied loads at t (body, edge, point), flat (N)."""

@@ -84,7 +84,7 @@ import deformable
 from deformable import scenes, tomlio
 from deformable.backends.registry import Discretisation
 from deformable.checks import extra, known_keys
-from deformable.contact.points import clearance, require_outside
+from deformable.contact.clearance import clearance, require_clear
 from deformable.dynamics import SCHEMES, Callback, EnergyMonitor, State, TimeStepper
 from deformable.errors import InputError
 from deformable.io import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
@@ -406,7 +406,8 @@ def prepare(args) -> Run:
         run.start = None
     if scene.obstacles:  # a start inside an obstacle cannot be stepped: refused before anything is written
         try:
-            require_outside(model, X0 if run.start is None else run.start.X, "the start")
+            require_clear(model, X0 if run.start is None else run.start.X, "the start",
+                            0.0 if run.start is None else run.start.t)
         except ValueError as err:
             raise InputError(str(err)) from None
     t_now = 0.0 if run.start is None else run.start.t
@@ -541,7 +542,7 @@ def simulate(run: Run, progress: bool | str = False):
         trackers = [writer, energy]
         run.clearance = []  # with obstacles: the clearance after every step (m)
         if run.scene.obstacles:
-            trackers.append(Callback(lambda s: run.clearance.append(clearance(run.model, s.X))))
+            trackers.append(Callback(lambda s: run.clearance.append(clearance(run.model, s.X, t=s.t))))
         ckpt = None
         if run.ck_every:
             ckpt = CheckpointWriter(run.out, f"{cfg.scene}-checkpoint", run.ck_every, run.X0, **meta)

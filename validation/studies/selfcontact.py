@@ -96,7 +96,7 @@ def run_self(case: SelfCase) -> dict:
         times.append(s.t)
         distances.append(mesh.self_distance(s.X, 3 * own.self_distance))
         if scene.obstacles:
-            clear = min(clear, dm.clearance(model, s.X))
+            clear = min(clear, dm.clearance(model, s.X, t=s.t))
 
     result = stepper.run(X0, V0=V0, t_end=case.t_end, trackers=[dm.Callback(record)])
     seconds = time.perf_counter() - t0

@@ -127,4 +127,4 @@ def test_tables_round_trip_and_bad_input_is_named():
         ob.Cylinder(radius=0.1, height=1.0, rounding=0.2)
     with pytest.warns(DeprecationWarning, match="obstacles.Plane is deprecated; use deformable.HalfSpace"):
         assert ob.Plane is dm.HalfSpace  # the former name of the half-space: one Plane now, the rest-shape surface
-    assert ob.Obstacle.names() == ("plane", "sphere", "box", "cylinder")
+    assert ob.Obstacle.names() == ("plane", "sphere", "box", "cylinder", "mesh")

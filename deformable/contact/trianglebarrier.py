@@ -1,0 +1,279 @@
+r"""IPC's barrier and lagged friction on a triangle mesh that carries the sheet, over flat vectors (``ipctk``).
+
+One class, :class:`TriangleBarrier`, serves the two contacts that meet the sheet primitive against primitive
+on an IPC Toolkit mesh: the sheet against itself (:mod:`deformable.contact.selfpotential`, the contact mesh of
+:class:`deformable.contact.selfmesh.ContactMesh`) and the sheet against triangle-mesh obstacles
+(:mod:`deformable.contact.meshpotential`, the sheet's contact mesh followed by the obstacles' triangles). The
+sheet's P vertices come first, ``V = W X`` (W the fixed map of the contact points, :mod:`.points`); the rest,
+if any, are prescribed (obstacles), not degrees of freedom.
+
+The barrier. Every pair of primitives that may touch (point-triangle, edge-edge) within the activation distance
+dhat beyond the thickness dmin adds the IPC barrier of its squared distance (Li et al. 2020, "Incremental
+Potential Contact", ACM TOG 39(4), eq. (6) on d^2, as the IPC Toolkit writes it; offset by dmin),
+
+    b(s; shat) = -(s - shat)^2 ln(s / shat)   for 0 < s < shat,  0 beyond,
+    S(x) = kappa sum_c A_c b(d_c^2 - dmin^2; dhat^2 + 2 dmin dhat)                   (J)
+
+with A_c the pair's area weight (the toolkit's area weighting: the vertex or edge areas of the rest mesh, m^2)
+and the stiffness kappa (N/m^5) each subclass chooses (:func:`motion_stiffness` sizes it by a closing speed).
+S is infinite at d = dmin; the energy is +inf where two triangles cross. Its gradient and Hessian are the
+toolkit's with respect to the mesh's vertices, each pair's Hessian projected onto the positive semi-definite
+cone (the toolkit's clamping of its eigenvalues); the sheet's rows map to the degrees of freedom by W,
+``grad_x = W^T grad_V`` and ``H_x = W^T H_V W`` per coordinate block; prescribed vertices' rows are dropped.
+The Hessian's pattern follows the pairs in contact: it enters Newton's matrix on a pattern that grows
+(:meth:`deformable.algebra.reduced.ReducedSystem.free_block`'s ``loose`` matrices).
+
+The collision-free step, :meth:`TriangleBarrier.max_step`: the toolkit's continuous collision detection along
+a straight step of the sheet (additive CCD: Li, Kaufman and Jiang 2021, "Codimensional Incremental Potential
+Contact", ACM TOG 40(4), section 5, conservative advancement to the minimum separation dmin), ``margin`` of the
+collision-free fraction. Measured on a fold closing at 10 m/s (FD 24 x 24 nodes, 103 Newton directions): 0.30 s
+CPU against Tight-Inclusion CCD's 7.4 s (Wang et al. 2021; tolerance 1e-6, 10^4 iterations), its steps within
+0.1 of the latter's; capped at 10^6 iterations. Every Newton direction is clipped to it, so no iterate, tried or
+taken, passes one primitive through another or within dmin of it.
+
+Friction (IPC section 5: lagged, smoothed Coulomb friction; the analytic obstacles' is the same,
+:mod:`deformable.contact.potential`), with Coulomb's coefficient mu_f and the slip speed eps_v (m/s,
+``Contact.slip``) below which it is smoothed. At the start of each implicit step (vertices V_n, step dt;
+:meth:`TriangleBarrier.lag`) every pair of the barrier within reach gets, frozen through the step, its normal force
+
+    lambda_c = A_c kappa |d b(d^2 - dmin^2) / dd| = -2 kappa A_c d b'(d^2 - dmin^2)   at d = d_c(V_n)        (N)
+
+(the toolkit's ``normal_force_magnitude`` times the pair's area weight), its orthonormal tangent basis T_c
+(3 x 2) of the plane across which the pair meets at V_n (nearly parallel edges, whose barrier the toolkit
+mollifies, get no friction) and the barycentric coordinates of its closest points, which make the relative
+displacement operator Gamma_c (3 x 12). Through the step, with the displacement of the vertices U = V(x) - V_n (m;
+a prescribed vertex's own motion over the step included, so a sheet carried by a moving obstacle does not slip)
+and u_c = T_c^T Gamma_c U (m, the pair's tangential slip over the step),
+
+    D(x) = sum_c mu_f lambda_c f0(|u_c|),   eps_x = eps_v dt                                                 (J)
+    f0(y) = -y^3 / (3 eps_x^2) + y^2 / eps_x + eps_x / 3   (y < eps_x),   y otherwise                     (m)
+
+is the toolkit's ``FrictionPotential(eps_x)`` evaluated on the displacements U (its ``eps_v`` is a length here,
+and its potential, the force (N) times the mollified length, joules). It equals dt times the toolkit's velocity
+form (``FrictionPotential(eps_v)`` on U / dt, watts): f0 is homogeneous of degree one in (y, eps), so
+f0_{eps_v dt}(|u|) = dt f0_{eps_v}(|u| / dt). D's gradient (N), ``mu_f lambda_c f1(|u_c|) Gamma_c^T T_c u_c /
+|u_c|`` (f1 = f0', 1 once sliding, |u_c| >= eps_x: Coulomb's force mu_f lambda_c against the slip; below, a creep
+slower than eps_v), and its Hessian (N/m, positive semi-definite) join the barrier's. Without a lag (x_n
+unknown), or with mu_f = 0, there is no friction, and the barrier's value, gradient and Hessian are computed
+exactly as without it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import ipctk
+import numpy as np
+import scipy.sparse as sp
+
+from .selfmesh import vertex_map
+from .settings import REST_FRACTION
+
+__all__ = ["TriangleBarrier", "PARTS", "motion_stiffness", "CCD_ITERATIONS"]
+
+#: the parts of the time kept in :attr:`TriangleBarrier.seconds`
+PARTS = ("collisions", "barrier", "hessian", "ccd", "intersections")
+
+#: the additive CCD's iteration cap
+CCD_ITERATIONS = 1_000_000
+
+
+def motion_stiffness(mu: float, speed: float, dhat: float, dmin: float = 0.0) -> float:
+    """kappa (N/m^5) under which a sheet of mass per area mu (kg/m^2) closing at ``speed`` (m/s) on a barrier is
+    stopped at a gap of dmin + dhat / 10: its kinetic energy per area mu v^2 / 2 equals the barrier's energy per
+    area there, ``kappa b(d0^2 - dmin^2; dhat^2 + 2 dmin dhat)`` at d0 = dmin + dhat / 10 (module docstring)."""
+    d0 = dmin + REST_FRACTION * dhat
+    return 0.5 * mu * speed**2 / ipctk.barrier(d0 * d0 - dmin * dmin, dhat * dhat + 2 * dmin * dhat)
+
+
+def _number(owner: str, name: str, v, zero: bool) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not zero):
+        raise ValueError(f"{owner}.{name} must be a {'non-negative' if zero else 'positive'} finite number, got {v!r}")
+    return float(v)
+
+
+class TriangleBarrier:
+    """The barrier S(x) and the lagged friction D(x) on a triangle mesh whose first P vertices are the sheet's
+    contact points, over flat coordinate-blocked vectors (3 ndof,) (module docstring).
+
+    A subclass gives the mesh and :meth:`vertices`.
+
+    Parameters
+    ----------
+    model : Backend
+    mesh : an object with ``mesh`` (the ipctk.CollisionMesh) and ``points`` (ContactPoints: the map W, P rows)
+    distance : float
+        The activation distance dhat (m), beyond the thickness.
+    stiffness : float
+        kappa (N/m^5).
+    margin : float
+        The fraction, in (0, 1), of the collision-free step that :meth:`max_step` allows.
+    thickness : float
+        dmin (m): no pair comes closer.
+    friction : float
+        Coulomb's coefficient mu_f (0: frictionless).
+    slip : float
+        eps_v (m/s): below this tangential speed friction is smoothed; over a step dt the smoothing length is
+        eps_x = eps_v dt.
+
+    Attributes
+    ----------
+    kappa : float
+        The barrier stiffness (N/m^5).
+    seconds : dict
+        Wall seconds spent so far in the IPC Toolkit's "collisions" (broad and narrow phase of the barrier's
+        pairs, and the friction's pairs frozen by :meth:`lag`), "barrier" (its value and gradient, and the
+        friction's), "hessian" (with the projections; the friction's too), "ccd" (the safe steps) and
+        "intersections" (the intersection test of :meth:`energy`).
+    """
+
+    def __init__(self, model, mesh, distance: float, stiffness: float, margin: float = 0.8, thickness: float = 0.0,
+                 friction: float = 0.0, slip: float = 1e-3):
+        owner = type(self).__name__
+        if not 0 < margin < 1:
+            raise ValueError(f"{owner}.margin must lie in (0, 1), got {margin!r}")
+        self.friction, self.slip = _number(owner, "friction", friction, True), _number(owner, "slip", slip, False)
+        self.mesh = mesh
+        self.n, self.margin, self.dhat, self.dmin = model.ndof, float(margin), float(distance), float(thickness)
+        self.kappa = _number(owner, "stiffness", stiffness, False)
+        self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
+        self.ccd = ipctk.AdditiveCCD(CCD_ITERATIONS)
+        self.Wv, self.WvT = vertex_map(mesh.points.W)
+        self.P = mesh.points.W.shape[0]
+        self._last = None  # (x, V, collisions) of the last state asked about
+        self._lagged = None  # (tangential collisions, V_n, FrictionPotential(eps_v dt)) frozen by lag, or None
+        self._zeros = np.zeros(3 * self.n)
+        self.seconds = dict.fromkeys(PARTS, 0.0)
+
+    def vertices(self, x) -> np.ndarray:
+        """The mesh's vertices (Fortran-ordered, (V, 3), m) of a flat state x, as the potential evaluates it."""
+        raise NotImplementedError
+
+    def start_vertices(self, x) -> np.ndarray:
+        """The mesh's vertices at the step's start x (flat), where :meth:`lag` freezes the friction."""
+        return self.vertices(x)
+
+    def _clock(self, name: str, t0: float) -> None:
+        self.seconds[name] += time.perf_counter() - t0
+
+    def _collisions(self, V):
+        t0 = time.perf_counter()
+        collisions = ipctk.NormalCollisions()
+        collisions.use_area_weighting = True
+        collisions.build(self.mesh.mesh, V, self.dhat, self.dmin)
+        self._clock("collisions", t0)
+        return collisions
+
+    def _at(self, x):
+        """The vertices and the barrier's collisions of a flat state x, kept for the next call at the same x (energy,
+        gradient and Hessian at one iterate build them once)."""
+        x = np.asarray(x, float)
+        if self._last is not None and np.array_equal(self._last[0], x):
+            return self._last[1], self._last[2]
+        V = self.vertices(x)
+        collisions = self._collisions(V)
+        self._last = (x.copy(), V, collisions)
+        return V, collisions
+
+    def _sheet(self, g) -> np.ndarray:
+        """The toolkit's gradient over the mesh (3 V,) -> the degrees of freedom (3 ndof,): the sheet's rows by W^T."""
+        return self.WvT @ np.asarray(g).ravel()[:3 * self.P]
+
+    # -- friction ------------------------------------------------------------------------
+    def lag(self, x, dt: float) -> None:
+        """Freeze the friction at the step's start x (flat), step dt (s): each pair's normal force and tangent
+        basis there, and the smoothing length eps_x = eps_v dt (module docstring). Nothing without friction."""
+        self._lagged = None
+        if self.friction == 0:
+            return
+        if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not (math.isfinite(dt) and dt > 0):
+            raise ValueError(f"{type(self).__name__}.lag: the step dt must be a positive finite number (s), got "
+                             f"{dt!r}")
+        V = self.start_vertices(x)
+        collisions = self._collisions(V)
+        if len(collisions) == 0:
+            return
+        t0 = time.perf_counter()
+        tangential = ipctk.TangentialCollisions()
+        tangential.build(self.mesh.mesh, V, collisions, self.barrier, self.friction)
+        self._clock("collisions", t0)
+        if len(tangential):
+            self._lagged = (tangential, np.array(V, order="F"), ipctk.FrictionPotential(self.slip * dt))
+
+    def _slip(self, V) -> np.ndarray:
+        """The vertices' displacements U = V - V_n since the lagged start (m), as the IPC Toolkit takes them."""
+        return np.asfortranarray(V - self._lagged[1])
+
+    # -- the potential ------------------------------------------------------------------
+    def energy(self, x) -> float:
+        """S(x) + D(x) (J); +inf where two triangles that may touch cross or a pair is not more than the thickness
+        apart."""
+        V, collisions = self._at(x)
+        t0 = time.perf_counter()
+        crossed = ipctk.has_intersections(self.mesh.mesh, V)
+        self._clock("intersections", t0)
+        if crossed:
+            return math.inf
+        t0 = time.perf_counter()
+        try:
+            if len(collisions) and collisions.compute_minimum_distance(self.mesh.mesh, V) <= self.dmin * self.dmin:
+                return math.inf
+            e = float(self.barrier(collisions, self.mesh.mesh, V))
+            if self._lagged is not None:
+                tangential, _, friction = self._lagged
+                e += float(friction(tangential, self.mesh.mesh, self._slip(V)))
+            return e
+        finally:
+            self._clock("barrier", t0)
+
+    def gradient(self, x) -> np.ndarray:
+        """grad (S + D), flat (3 ndof,) (N)."""
+        V, collisions = self._at(x)
+        if len(collisions) == 0 and self._lagged is None:
+            return self._zeros.copy()
+        t0 = time.perf_counter()
+        g = np.asarray(self.barrier.gradient(collisions, self.mesh.mesh, V)).ravel() if len(collisions) else 0.0
+        if self._lagged is not None:
+            tangential, _, friction = self._lagged
+            g = g + np.asarray(friction.gradient(tangential, self.mesh.mesh, self._slip(V))).ravel()
+        self._clock("barrier", t0)
+        return self._sheet(g)
+
+    def hessian(self, x) -> sp.csr_matrix:
+        """The Hessian of S + D with each pair's part projected onto the positive semi-definite cone, (3 ndof,
+        3 ndof) (N/m). Its pattern follows the pairs in contact and the friction's lagged pairs (no entries without
+        one)."""
+        V, collisions = self._at(x)
+        if len(collisions) == 0 and self._lagged is None:
+            return sp.csr_matrix((3 * self.n, 3 * self.n))
+        t0 = time.perf_counter()
+        clamp = ipctk.PSDProjectionMethod.CLAMP
+        H = sp.csr_matrix(self.barrier.hessian(collisions, self.mesh.mesh, V, clamp)) if len(collisions) else None
+        if self._lagged is not None:
+            tangential, _, friction = self._lagged
+            F = sp.csr_matrix(friction.hessian(tangential, self.mesh.mesh, self._slip(V), clamp))
+            H = F if H is None else H + F
+        m = 3 * self.P
+        if H.shape[0] > m:  # prescribed vertices: not degrees of freedom
+            H = H[:m, :m]
+        H = (self.WvT @ H @ self.Wv).tocsr()
+        self._clock("hessian", t0)
+        return H
+
+    # -- the collision-free step -------------------------------------------------------------
+    def free_fraction(self, V0, V1) -> float:
+        """The toolkit's collision-free fraction in [0, 1] of the straight motion from vertices V0 to V1 (no pair
+        within the thickness on the way)."""
+        t0 = time.perf_counter()
+        alpha = float(ipctk.compute_collision_free_stepsize(self.mesh.mesh, np.asfortranarray(V0),
+                                                            np.asfortranarray(V1), self.dmin, None, self.ccd))
+        self._clock("ccd", t0)
+        return alpha
+
+    def max_step(self, x, dx) -> float:
+        """The fraction in (0, 1] of the step dx (flat) that x may take with no pair coming closer than the thickness
+        on the way (``margin`` of the collision-free fraction when that is below 1)."""
+        x = np.asarray(x, float)
+        alpha = self.free_fraction(self.vertices(x), self.vertices(x + np.asarray(dx, float)))
+        return 1.0 if alpha >= 1.0 else self.margin * alpha
