@@ -44,9 +44,10 @@ apart, as section 4 recommends.
 The scenes, each in its module with how it differs from the paper's text:
 ``hanging`` (:mod:`.cloth`), ``curtain``, ``curtain-silky``, ``paper``
 (:mod:`.curtain`, Figs 3-6), ``flag`` (:mod:`.flag`, Figs 7-8), ``floor``,
-``sphere``, ``drape`` (:mod:`.contact`). A new scene is one class: a subclass
-of :class:`~deformable.scenes.config.SceneConfig` with a ``name``, its fields
-and ``build()`` (examples/custom_scene.py builds a Scene directly instead).
+``sphere``, ``drape`` (:mod:`.contact`), ``coil`` (:mod:`.strip`). A new scene
+is one class: a subclass of :class:`~deformable.scenes.config.SceneConfig` with
+a ``name``, its fields and ``build()`` (examples/custom_scene.py builds a Scene
+directly instead).
 
 Every scene takes further obstacles from a scene file, ``[[obstacles]]``
 tables (``kind = "plane" | "sphere" | "box" | "cylinder"`` and the obstacle's
@@ -72,6 +73,7 @@ from .registry import (
     SCENES,
     SceneSpec,
     build,
+    coil,
     config,
     curtain,
     curtain_silky,
@@ -84,9 +86,10 @@ from .registry import (
 )
 from .scaling import equivalent_weights, fold_wavelength
 from .shapes import HORIZONTAL, VERTICAL, FoldNoise, smooth_ramp
+from .strip import CoilConfig
 
-__all__ = ["SCENES", "SceneSpec", "SceneConfig", "HangingConfig", "CurtainConfig", "SilkyCurtainConfig",
-           "PaperConfig", "FlagConfig", "FloorConfig", "SphereConfig", "DrapeConfig", "config", "build", "read_toml",
+__all__ = ["SCENES", "SceneSpec", "SceneConfig", "HangingConfig", "CurtainConfig", "SilkyCurtainConfig", "PaperConfig",
+           "FlagConfig", "FloorConfig", "SphereConfig", "DrapeConfig", "CoilConfig", "config", "build", "read_toml",
            "read_toml_text", "to_toml", "run_table", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
-           "sphere", "drape", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "field_docs", "config_table", "FieldDoc", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes",
-           "VERTICAL", "HORIZONTAL"]
+           "sphere", "drape", "coil", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "field_docs",
+           "config_table", "FieldDoc", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes", "VERTICAL", "HORIZONTAL"]

@@ -21,9 +21,10 @@ from .config import SceneConfig
 from .contact import DrapeConfig, FloorConfig, SphereConfig  # noqa: F401
 from .curtain import CurtainConfig, PaperConfig, SilkyCurtainConfig  # noqa: F401
 from .flag import FlagConfig  # noqa: F401
+from .strip import CoilConfig  # noqa: F401
 
 __all__ = ["SCENES", "SceneSpec", "config", "build", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
-           "sphere", "drape"]
+           "sphere", "drape", "coil"]
 
 
 @dataclass(frozen=True)
@@ -137,3 +138,8 @@ def sphere(nodes=None, **fields_) -> Scene:
 def drape(nodes=None, **fields_) -> Scene:
     """The Cusick drape test: a 0.3 m square cloth on a round table 0.18 m across (:class:`DrapeConfig`)."""
     return SCENES["drape"](nodes, **fields_)
+
+
+def coil(nodes=None, **fields_) -> Scene:
+    """A 0.6 m x 0.04 m strip dropped end first onto the floor, folding onto itself (:class:`CoilConfig`)."""
+    return SCENES["coil"](nodes, **fields_)
