@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .meshpotential import obstacle_mesh
+from .meshpotential import obstacle_contact_mesh
 from .points import contact_points, require_outside
 
 __all__ = ["clearance", "require_clear"]
@@ -41,7 +41,7 @@ def clearance(model, X: np.ndarray, obstacles=None, t: float = 0.0) -> float:
         r = contact_points(model).positions(np.asarray(X, float))
         out = float(min(np.min(o.distance(r)) for o in analytic))
     if meshes:
-        out = min(out, obstacle_mesh(model, meshes).distance(X, t))
+        out = min(out, obstacle_contact_mesh(model, meshes).distance(X, t))
     return out
 
 
@@ -50,6 +50,6 @@ def require_clear(model, X: np.ndarray, what: str = "the state", t: float = 0.0)
     outside an analytic obstacle (:func:`deformable.contact.points.require_outside`), or the sheet intersecting a
     mesh obstacle."""
     require_outside(model, X, what)
-    if any(not o.analytic for o in model.scene.obstacles) and obstacle_mesh(model).intersects(X, t):
+    if any(not o.analytic for o in model.scene.obstacles) and obstacle_contact_mesh(model).intersects(X, t):
         raise ValueError(f"{what}: the sheet intersects a mesh obstacle at t = {t:g} s; it must start clear of every "
                          "obstacle")

@@ -13,9 +13,12 @@ with one palette for all its frames, so that the colours do not flicker and the 
 drawn: PNG frames and a GIF. The camera is fixed for the whole series and frames the union of the
 sheet's bounding boxes over all frames; the colour range of the chosen field is fixed over the series
 too, so frames compare. A scene's obstacles (:mod:`deformable.contact.obstacles`) are drawn in every
-frame: a plane as a square patch under the sheet's extent, spheres as they are, rounded boxes and
-cylinders as their sharp cores (the solid less its rounding), so that a cloth resting on a rounded rim
-is not drawn cut by a sharp one.
+frame: a plane as a square patch under the sheet's extent, spheres smaller by the chord's sag of the
+sheet's longest cell diagonal h over the radius R, h^2 / (8 R) (the sheet touches an analytic obstacle at its
+contact points, and the flat face between two of them may cut a ball by that much,
+:mod:`deformable.contact.points`: drawn at full size the ball shows through a cloth resting on it), rounded
+boxes and cylinders as their sharp cores (the solid less its rounding), so that a cloth resting on a rounded
+rim is not drawn cut by a sharp one, and a mesh obstacle as its own triangles where it is at each frame.
 
 Every picture gets a fresh plotter (:func:`plotter`): ``Plotter.clear()`` removes the light kit too,
 and a plotter reused after it draws under VTK's flat headlight.
@@ -280,16 +283,19 @@ def gif_bytes(images, fps: float = 12.0, colors: int = 96) -> bytes:
                 optimize=True)
     return buf.getvalue()
 
-def obstacle_mesh(obstacle, bounds: np.ndarray, t: float = 0.0):
+def obstacle_mesh(obstacle, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
     """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3); a mesh
-    obstacle its own triangles where they are at time t (s)."""
+    obstacle its own triangles where they are at time t (s); a sphere smaller by the sag h^2 / (8 R) of a sheet
+    cell's diagonal h = ``cell`` (m) (module docstring)."""
     pv = offscreen_pyvista()
     kind = obstacle.kind
     if not obstacle.analytic:
         F = np.asarray(obstacle.triangles)
         return pv.PolyData(np.asarray(obstacle.points(t)), np.column_stack([np.full(len(F), 3), F]).ravel())
     if kind == "sphere":
-        return pv.Sphere(radius=obstacle.radius, center=obstacle.center, theta_resolution=64, phi_resolution=64)
+        R = obstacle.radius
+        return pv.Sphere(radius=R - min(cell * cell / (8 * R), 0.5 * R), center=obstacle.center, theta_resolution=64,
+                         phi_resolution=64)
     r = getattr(obstacle, "rounding", 0.0)  # a rounded solid is drawn as its sharp core, never outside it
     if kind == "cylinder":
         return pv.Cylinder(center=obstacle.center, direction=obstacle.axis, radius=obstacle.radius - r,
@@ -358,7 +364,9 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     clim = colour_range(values)
     pts = np.concatenate([f[1] for f in frames])
     bounds = np.array([pts.min(axis=0), pts.max(axis=0)])
-    meshes = [obstacle_mesh(o, bounds) for o in obstacles]
+    first = frames[0][1][np.asarray(cells, np.int64)]  # (n, 4, 3): the cells' corners in the first frame
+    cell = float(np.max(np.linalg.norm(first[:, :, None] - first[:, None, :], axis=3), initial=0.0))  # diagonals
+    meshes = [obstacle_mesh(o, bounds, cell=cell) for o in obstacles]
     moving = any(getattr(o, "moving", False) for o in obstacles)  # a mesh obstacle on its path: drawn at each t
     view = camera(bounds)
     digits = time_digits([f[0] for f in frames])
@@ -375,7 +383,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
             if moving:
-                meshes = [obstacle_mesh(o, bounds, t) for o in obstacles]
+                meshes = [obstacle_mesh(o, bounds, t, cell) for o in obstacles]
             image = frame_image([[Panel(points, np.ravel(v), title, t)]], size, faces=faces, field=field, clim=clim,
                                 view=view, obstacles=meshes, digits=digits)
             png = out_dir / f"frame-{k:05d}.png"

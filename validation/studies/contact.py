@@ -1,7 +1,7 @@
 r"""Study ``contact``: no penetration, friction's two regimes, the energy of an impact, the drape coefficient,
 self-contact.
 
-Five experiments on both backends (:mod:`deformable.contact`, the IPC barrier
+Six experiments on both backends (:mod:`deformable.contact`, the IPC barrier
 of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
 
 1. Clearance. The contact scenes ``floor``, ``sphere`` and ``drape`` on a
@@ -33,6 +33,9 @@ of Li et al. 2020 with lagged smoothed Coulomb friction, under implicit Euler):
 5. Self-contact: no self-intersection at any step, the smallest
    self-distance, the energy of a frictionless self-impact and the cost
    (:mod:`validation.studies.selfcontact`).
+6. Mesh obstacles: the ball's triangulation against the analytic ball, and
+   a box moving through a hanging sheet at 5 m/s
+   (:mod:`validation.studies.meshcontact`).
 """
 
 from __future__ import annotations
@@ -49,6 +52,7 @@ from deformable.solve.potential import flat
 from validation.harness.backends import make_model
 from validation.harness.orders import pairwise_orders
 from validation.harness.study import Levels, Study, Table, nodes_at
+from validation.studies.meshcontact import fill_mesh
 from validation.studies.selfcontact import fill_self
 
 #: the sheet of the inclined-plane and drop experiments: a light cloth, no air damping
@@ -68,7 +72,7 @@ def _run(model, dt, t_end, X0=None, V0=None, scheme=None, watch=None):
     clear, seen = [], []
 
     def record(s):
-        clear.append(dm.clearance(model, s.X))
+        clear.append(dm.clearance(model, s.X, t=s.t))
         if watch is not None:
             seen.append(watch(stepper, s))
 
@@ -280,6 +284,7 @@ def fill(res, levels: int, runner) -> None:
     res.data["drape"] = dcs
     res.data["drape_orders"] = orders
     fill_self(res, runner)
+    fill_mesh(res, runner)
     res.findings.append(
         "The drape coefficient depends on where the table's rim holds the cloth. With contact points only at the "
         "nodes (FD) or at h / 2 (FE), the cloth is held only where a contact point lands on the table, and the "
@@ -304,5 +309,5 @@ NEWMARK_DT = (1e-3, 5e-4, 2.5e-4)
 DRAPE_T_END = 1.5
 
 STUDY = Study("contact", "contact: clearance, stick and slip on an incline, the energy of an impact, Cusick drape, "
-              "self-contact",
+              "self-contact, mesh obstacles",
               Levels(quick=3, full=4, minimum=3, maximum=5), fill, in_default=False)
