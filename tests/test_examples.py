@@ -173,3 +173,14 @@ def test_koiter_plate(out):
     assert 3.5 <= number(r"FE: observed order ([\d.e+-]+)", text) <= 4.5
     assert number(r"FE 17 nodes a side: relative error ([\d.e+-]+)", text) <= 1e-3
     png(out / "koiter_plate.png")
+
+
+@IN_THE_GALLERY
+def test_mesh_obstacle(out):
+    """A cloth dropped on a stool read from an OBJ file: never closer than 0 to it at any step, and its corners hang
+    below the seat's edge, at most the cloth's free reach beyond the seat's corner (0.495 - 0.212 m)."""
+    text = run_example("mesh_obstacle", out)
+    assert number(r"smallest clearance (\S+) m", text) > 0
+    assert 0.05 < number(r"corners hang (\S+) m below the seat", text) < 0.495 - 0.212
+    assert number(r"(\d+) triangles read", text) == 60
+    png(out / "mesh_obstacle.png")

@@ -55,7 +55,7 @@ class Contact:
         The activation distance dhat of the barrier (m); for the exponential
         force, its length eps.
     friction : float
-        Coulomb's coefficient mu_f (0: frictionless).
+        Coulomb's coefficient mu_f against the obstacles (0: frictionless).
     stiffness : float or None
         The barrier's kappa (N/m^3); None: the sheet's own weight rests at
         dhat / 10.
@@ -84,7 +84,8 @@ class Contact:
         The self-contact barrier's kappa (N/m^5); None: two folds closing at
         ``self_speed`` stop at a gap of thickness + self_distance / 10.
     self_speed : float
-        The closing speed (m/s) the default self-contact stiffness is sized for.
+        The closing speed (m/s) the default self-contact stiffness is sized for
+        (and the mesh obstacles' largest, their start when one moves).
     self_friction : float
         Coulomb's coefficient between folds of the sheet (0: frictionless),
         smoothed below ``slip`` as the obstacles' friction is.

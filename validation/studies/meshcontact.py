@@ -35,6 +35,7 @@ from deformable.contact.points import contact_points
 from deformable.geometry.surfaces import Plane
 from validation.harness.backends import make_model
 from validation.harness.study import Table
+from validation.studies.selfcontact import one_thread
 
 __all__ = ["BallCase", "PaddleCase", "run_ball", "run_paddle", "fill_mesh", "LEVELS", "CAP", "box_mesh"]
 
@@ -91,6 +92,7 @@ def _watch(model, stepper, t_end):
 def run_ball(case: BallCase) -> dict:
     """The ball's run (module docstring, 6a): the cap's contact points at the end, the run's intersections,
     clearance and time."""
+    one_thread()
     cfg = scenes.config("sphere", nodes=(BALL["nodes"],) * 2,
                         contact=dm.Contact(distance=1e-3, friction=0.3, samples=BALL["samples"]))
     scene = scenes.build(cfg)
@@ -113,6 +115,7 @@ def run_ball(case: BallCase) -> dict:
 
 def run_paddle(case: PaddleCase) -> dict:
     """A paddle through a hanging sheet at 5 m/s (module docstring, 6b)."""
+    one_thread()
     sheet = dm.Sheet(size=(0.2, 0.2), nodes=(case.nodes, case.nodes), rest=Plane(e2=(0.0, 0.0, 1.0)))
     V, F = box_mesh((0.05, -0.08, 0.05), (0.15, -0.03, 0.15))
     paddle = MeshObstacle(vertices=V, faces=F, velocity=(0.0, 5.0, 0.0))

@@ -26,6 +26,7 @@ import math
 import time
 from dataclasses import dataclass
 
+import ipctk
 import numpy as np
 
 import deformable as dm
@@ -77,9 +78,20 @@ def _model(case: SelfCase):
     return make_model(scene, case.backend), dt, scene, own
 
 
+#: the most points of a run's self-distance series kept in the committed results
+SERIES_POINTS = 100
+
+
+def one_thread() -> None:
+    """The IPC Toolkit on one thread in this process: its parallel sums differ in their last digits from run to run,
+    and the committed report must read back the same from a rerun."""
+    ipctk.set_num_threads(1)
+
+
 def run_self(case: SelfCase) -> dict:
     """Run a case, measuring at every step whether the contact mesh intersects itself and its smallest
     self-distance (within 3 activation distances), and the obstacles' clearance."""
+    one_thread()
     model, dt, scene, own = _model(case)
     mesh = ContactMesh(model, own.self_distance, thickness=own.thickness)
     stepper = dm.TimeStepper(model, dt)
@@ -107,13 +119,23 @@ def run_self(case: SelfCase) -> dict:
     return {"steps": result.steps, "crossed": crossed, "distance": float(d.min()),
             "when": float(times[int(np.argmin(d))]), "thickness": own.thickness, "clearance": clear,
             "blocked": 0 if terms is None else terms.blocked, "lag": lag, "seconds": seconds,
-            "series": [times, [x if math.isfinite(x) else None for x in d]]}
+            "series": _thinned(times, d)}
+
+
+def _thinned(times, d) -> list:
+    """The series (t, smallest self-distance) at no more than :data:`SERIES_POINTS` steps, evenly spread, always
+    with the closest one."""
+    keep = set(np.linspace(0, len(times) - 1, min(len(times), SERIES_POINTS)).round().astype(int).tolist())
+    keep.add(int(np.argmin(d)))
+    idx = sorted(keep)
+    return [[times[i] for i in idx], [float(d[i]) if math.isfinite(d[i]) else None for i in idx]]
 
 
 def run_self_energy(case: tuple) -> dict:
     """The U fold (FD 16 x 16, no damping) by ``scheme`` at ``dt``: the largest rise and fall of E and its change
     over the run, against the kinetic energy at the start."""
     scheme, dt = case
+    one_thread()
     model = make_model(impact_scene(16), "fd")
     stepper = dm.TimeStepper(model, dt, scheme)
     contact = stepper.newton.problem.contact
