@@ -7,12 +7,12 @@ distance and no exact safe step by Newton's iteration on one
 (:mod:`deformable.contact.obstacles`): the sheet meets it as it meets
 itself, primitive against primitive on one triangle mesh of the IPC Toolkit
 (the sheet's contact mesh and the obstacle's triangles:
-:class:`deformable.contact.selfmesh.ContactMesh` with ``obstacles``), under the
+:class:`deformable.contact.meshpotential.ObstacleMesh`), under the
 IPC barrier of their distances and a line search bounded by continuous
 collision detection (Li et al. 2020, "Incremental Potential Contact", ACM
 TOG 39(4)): no sheet vertex passes an obstacle triangle, no obstacle vertex
 (a chair's corner) passes a sheet triangle, no edge passes an edge
-(:class:`deformable.contact.selfpotential.MeshObstaclePotential`).
+(:class:`deformable.contact.meshpotential.MeshObstaclePotential`).
 
 Motion. The obstacle is static, or moves rigidly on a prescribed path: a
 rotation at the constant angular velocity omega (rad/s) about ``pivot`` and a
@@ -21,13 +21,16 @@ translation at the constant ``velocity`` (m/s),
     y(t) = R(omega t) (y0 - pivot) + pivot + velocity t,
 
 R(theta) the rotation by |theta| about theta / |theta| (Rodrigues' formula).
-Each implicit step puts it where it is at the step's end; a step over which
-it alone would strike the sheet is retried shorter
+Each implicit step puts it where it is at the step's end; where its motion
+over the step would strike the sheet, the sheet near it rides with it into
+the step's start, and a step over which even that would strike the sheet
+(a pinned edge in its way) is retried shorter
 (:meth:`deformable.contact.terms.ContactTerms.safe_start`).
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -79,7 +82,8 @@ class MeshObstacle(Obstacle):
     ----------
     path : str, optional
         A mesh file meshio reads (its triangles are the obstacle; other cells are left out). Relative paths are
-        relative to the working directory (a scene file's ``[[obstacles]]`` to the file's folder).
+        relative to the working directory (a scene file's ``[[obstacles]]`` to the file's folder); kept absolute,
+        so that the resolved config written beside a run reads it again from anywhere.
     vertices : array (Q, 3), optional
         The vertices (m), instead of a file.
     faces : int array (F, 3), optional
@@ -116,7 +120,7 @@ class MeshObstacle(Obstacle):
             if self.faces is not None:
                 raise InputError("MeshObstacle.faces goes with vertices, not with path", field="MeshObstacle.faces",
                                  value="...")
-            object.__setattr__(self, "path", str(self.path))
+            object.__setattr__(self, "path", os.path.abspath(self.path))  # a resolved config re-reads it anywhere
             V, F = _read(self.path)
         else:
             V, F = self._arrays()
@@ -198,9 +202,9 @@ class MeshObstacle(Obstacle):
 
     def derivatives(self, x, hessian: bool = True):
         """Not defined: a triangle mesh has no signed distance (module docstring); the sheet meets it on the IPC
-        Toolkit's mesh (:class:`deformable.contact.selfpotential.MeshObstaclePotential`)."""
+        Toolkit's mesh (:class:`deformable.contact.meshpotential.MeshObstaclePotential`)."""
         raise TypeError("a MeshObstacle has no signed distance: its contact is the IPC Toolkit's, primitive against "
-                        "primitive (deformable.contact.selfpotential.MeshObstaclePotential)")
+                        "primitive (deformable.contact.meshpotential.MeshObstaclePotential)")
 
     def table(self) -> dict:
         """The obstacle as a TOML table (the arrays as lists when it has no file; fields at their defaults left

@@ -54,12 +54,12 @@ class ContactTerms:
     obstacles : ContactPotential or None
         The analytic obstacles' barrier and friction (None without them).
     meshes : MeshObstaclePotential or None
-        The mesh obstacles' barrier (None without them).
+        The mesh obstacles' barrier and friction (None without them).
     sheet : SelfContactPotential or None
-        The self-contact barrier (None without ``Contact.self_distance``).
+        The self-contact barrier and friction (None without ``Contact.self_distance``).
     blocked : int
-        The steps :meth:`safe_start` rejected: their prescribed motion alone would have pressed the sheet through
-        itself.
+        The steps :meth:`safe_start` rejected: their prescribed motion alone (held degrees of freedom, moving mesh
+        obstacles) would have pressed the sheet through itself or an obstacle through the sheet.
     """
 
     def __init__(self, model):
@@ -94,8 +94,8 @@ class ContactTerms:
         return self.obstacles is None
 
     def energy(self, x) -> float:
-        """The barriers' and the friction's energy (J); +inf where a point is not outside an obstacle or the sheet
-        crosses itself (or comes closer than its thickness)."""
+        """The barriers' and the friction's energy (J); +inf where a point is not outside an obstacle, the sheet
+        crosses a mesh obstacle or itself (or comes closer to itself than its thickness)."""
         return sum(p.energy(x) for p in self._parts)
 
     def gradient(self, x) -> np.ndarray:
@@ -168,8 +168,8 @@ class ContactTerms:
 
     # -- the direction filter (deformable.solve.newton.DirectionFilter) ---------------------------------------
     def max_step(self, x, dx) -> float:
-        """The largest fraction in (0, 1] of dx that keeps the obstacles' and the sheet's guarantee: the smaller of
-        the two safe steps."""
+        """The largest fraction in (0, 1] of dx that keeps every part's guarantee: the smallest of their safe
+        steps."""
         alpha = 1.0
         for p in self._parts:
             alpha = min(alpha, p.max_step(x, alpha * np.asarray(dx)) * alpha)

@@ -5,9 +5,10 @@ frictionless self-impact, and the cost.
    the sheet's contact mesh with continuous collision detection in the line
    search). Runs: the U fold whose legs meet at 5 m/s each
    (:mod:`validation.harness.folds`, FD and FE), the ``sphere`` scene (a cloth
-   dropped on a ball, its skirt folding onto itself) and the ``curtain``
-   drawn open (its gathered folds, a fabric 1 mm thick), each with its
-   self-contact and once without. At every step the IPC Toolkit's
+   dropped on a ball, its skirt folding onto itself), the ``curtain``
+   drawn open (its gathered folds, a fabric 1 mm thick) and the ``coil``
+   (a ribbon dropped end first onto the floor, folding onto itself), each
+   with its self-contact and once without. At every step the IPC Toolkit's
    intersection test on the contact mesh and its smallest self-distance.
    Expectation: with self-contact, no step intersects and no two primitives
    come closer than the thickness (the line search clips every Newton step
@@ -47,19 +48,24 @@ class SelfCase:
 
     kind: str
     backend: str
-    nodes: int
+    nodes: int | tuple
     t_end: float
     on: bool = True
 
     @property
+    def grid(self) -> tuple[int, int]:
+        """The node grid (M, N): ``nodes`` a side, or as given."""
+        return (self.nodes, self.nodes) if isinstance(self.nodes, int) else tuple(self.nodes)
+
+    @property
     def label(self) -> str:
         what = "U fold at 5 m/s" if self.kind == "impact" else self.kind
-        return f"{what} {self.backend.upper()} {self.nodes}x{self.nodes}"
+        return f"{what} {self.backend.upper()} {self.grid[0]}x{self.grid[1]}"
 
 
 #: the runs, each with and without self-contact
 SELF_CASES = (("impact", "fd", 16, 0.02), ("impact", "fe", 9, 0.02), ("sphere", "fd", 24, 0.6),
-              ("curtain", "fd", 32, 2.0))
+              ("curtain", "fd", 32, 2.0), ("coil", "fd", (121, 9), 0.6))
 #: Newmark's steps in the self-impact's energy balance (s)
 IMPACT_DT = (1e-3, 5e-4, 2.5e-4)
 
@@ -69,7 +75,7 @@ def _model(case: SelfCase):
     if case.kind == "impact":
         scene, dt = impact_scene(case.nodes), 1e-3
     else:
-        cfg = scenes.config(case.kind, nodes=(case.nodes, case.nodes))
+        cfg = scenes.config(case.kind, nodes=case.grid)
         scene, dt = scenes.build(cfg), cfg.dt
     own = scene.contact
     if not case.on:
