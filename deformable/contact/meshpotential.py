@@ -50,6 +50,7 @@ import weakref
 import ipctk
 import numpy as np
 
+from ..checks import count, real
 from .points import contact_points
 from .selfmesh import grid_triangles
 from .settings import REST_FRACTION
@@ -277,6 +278,22 @@ class MeshObstaclePotential(TriangleBarrier):
                 free = ~blocked[a * self.n + dofs]
                 out[a * self.n + dofs[free]] = moved[free, a]
         return out
+
+    def memory(self) -> dict:
+        """What the adaptive rule carries from step to step (a checkpoint keeps it, so that a resumed run is the same
+        run): kappa (N/m^5), the smallest squared distance at the last step's start (m^2) and the doublings."""
+        return {"kappa": self.kappa, "closest": self._closest, "raised": self.raised}
+
+    def recall(self, memory: dict) -> None:
+        """Take up :meth:`memory` of another instance; InputError naming the key when a value does not fit."""
+        kappa = real("memory.contact.kappa", memory.get("kappa", self.kappa), positive=True)
+        closest = memory.get("closest", self._closest)
+        if closest != math.inf:  # no pair within reach at the last step's start
+            closest = real("memory.contact.closest", closest, non_negative=True)
+        raised = count("memory.contact.raised", memory.get("raised", self.raised), minimum=0)
+        self.kappa, self._closest, self.raised = kappa, closest, raised
+        self.barrier = ipctk.BarrierPotential(self.dhat, self.kappa)
+        self._last = None
 
     def prescribed_step(self, x, dx) -> float:
         """The collision-free fraction of the prescribed motion over the step: the obstacles from where they stand

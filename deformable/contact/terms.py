@@ -114,6 +114,16 @@ class ContactTerms:
         patterns change with the pairs in contact (none without either)."""
         return [p.hessian(x) for p in self._loose]
 
+    def memory(self) -> dict:
+        """What the contact carries from step to step besides the state (the mesh obstacles' adapted stiffness,
+        :meth:`MeshObstaclePotential.memory`), for a checkpoint; {} when nothing."""
+        return {} if self.meshes is None else self.meshes.memory()
+
+    def recall(self, memory: dict) -> None:
+        """Take up :meth:`memory` of another instance of the same run."""
+        if self.meshes is not None and memory:
+            self.meshes.recall(memory)
+
     def lag(self, x, dt: float, t: float | None = None) -> None:
         """Freeze the friction (the obstacles' and the sheet's against itself) at the step's start x (flat), step dt
         (s) ending at t (s): the moving mesh obstacles stand where they are at t (default: where they stand)."""

@@ -54,7 +54,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..checks import real
-from ..errors import ConvergenceError, DivergenceError, StepRejected
+from ..errors import ConvergenceError, DivergenceError, InputError, StepRejected
 from ..solve.newton import Newton, NewtonSettings
 from ..solve.potential import FlatEnergy, flat, unflat
 from .scheme import Scheme
@@ -93,7 +93,7 @@ class Implicit(Scheme):
     adaptive = True
     #: the predictor's acceleration term: the search starts from x-hat + start dt^2 a_n
     start: ClassVar[float] = 1.0
-    remembers = ("newton_floor", "lag")
+    remembers = ("newton_floor", "lag", "contact")
 
     def __init__(self, model, dt: float | None = None, newton: NewtonSettings | dict | None = None,
                  solver: str = "auto"):
@@ -118,14 +118,21 @@ class Implicit(Scheme):
         raise NotImplementedError
 
     def memory(self) -> dict:
-        """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from, and the
-        factorisation lagged across steps, if one is kept (:meth:`deformable.solve.newton.Newton.memory`)."""
-        return {"newton_floor": self.newton.floor, **self.newton.memory()}
+        """Newton's round-off floor of the last solve (N), which the next solve's tolerance starts from, the
+        factorisation lagged across steps, if one is kept (:meth:`deformable.solve.newton.Newton.memory`), and the
+        contact's (the mesh obstacles' adapted stiffness, :meth:`deformable.contact.terms.ContactTerms.memory`)."""
+        contact = {} if self.flat.contact is None else self.flat.contact.memory()
+        return {"newton_floor": self.newton.floor, **self.newton.memory(), **({"contact": contact} if contact else {})}
 
     def restore(self, memory: dict) -> None:
         self.newton.recall(memory)  # before the floor: making the factorisation again sets a floor of its own
         if "newton_floor" in memory:
             self.newton.floor = real("memory.newton_floor", memory["newton_floor"], non_negative=True)
+        if "contact" in memory and self.flat.contact is not None:
+            if not isinstance(memory["contact"], dict):
+                raise InputError(f"memory.contact must be a table of numbers, got {memory['contact']!r:.60}",
+                                 field="memory.contact", value=memory["contact"])
+            self.flat.contact.recall(memory["contact"])
 
     # -- the step --------------------------------------------------------------------
     def acceleration(self, state) -> np.ndarray:

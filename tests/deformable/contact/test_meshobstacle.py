@@ -122,6 +122,25 @@ def test_a_scene_file_reads_a_mesh_beside_it_and_its_config_reads_back_equal(tmp
     assert [o.kind for o in built.obstacles] == ["plane", "mesh"]
 
 
+def test_an_obstacle_that_crosses_itself_is_not_counted_against_the_sheet():
+    """Two boxes through each other as one mesh (a scanned or assembled mesh often crosses itself): the IPC
+    Toolkit's own test finds the crossing, but only sheet-obstacle pairs count, so the sheet 1 cm above it is clear
+    at 1 cm."""
+    import ipctk
+
+    A, B = box_mesh((0.0, 0.0, -0.1), (0.2, 0.05, 0.0)), box_mesh((0.05, -0.05, -0.15), (0.1, 0.15, -0.05))
+    V, F = np.vstack([A[0], B[0]]), np.vstack([A[1], B[1] + 8]).astype(np.int32)
+    alone = ipctk.CollisionMesh(V, np.asarray(ipctk.edges(F), np.int32), F)
+    assert ipctk.has_intersections(alone, np.asfortranarray(V))
+    obstacle = MeshObstacle(vertices=V, faces=F)
+    model = FDModel(falling_sheet((5, 5), 0.01, (obstacle,)))
+    mesh = ObstacleMesh(model, (obstacle,))
+    X = model.initial_state()
+    assert not mesh.intersects(X)
+    assert mesh.distance(X) == pytest.approx(0.01, rel=1e-9)
+    assert math.isfinite(MeshObstaclePotential(model, (obstacle,), DHAT, 2.0, 1e12).energy(flat(X)))
+
+
 # -- the barrier --------------------------------------------------------------------------------
 def test_the_barrier_gradient_is_the_derivative_of_its_energy_and_its_hessian_is_psd():
     ball = icosphere((0.1, 0.1, -0.1), 0.1, 2)
@@ -173,6 +192,32 @@ def _height_over(mesh, X, point) -> float:
         if u >= 0 and v >= 0 and u + v <= 1:
             return float(a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]))
     raise AssertionError("no triangle of the sheet lies over the point")
+
+
+def test_a_resumed_run_keeps_the_adapted_stiffness_and_is_the_same_run():
+    """The sheet on the pyramid's apex (FD 5 x 5): IPC's adaptive rule doubles the mesh barrier's kappa from step 32
+    on (measured: 4 doublings by step 80). A run resumed at step 40 from the state and the controller's memory
+    (which holds the adapted kappa) ends where the whole run does, bit for bit; resumed without that memory, it
+    does not."""
+    model = FDModel(falling_sheet((5, 5), 0.01, (pyramid((0.075, 0.075, 0.0), 0.04, 0.05),)))
+    whole = dm.TimeStepper(model, 2e-3)
+    kept = {}
+
+    def keep(state):
+        if state.step == 40:
+            kept["state"], kept["memory"] = state, whole.memory()
+
+    end = whole.run(model.initial_state(), steps=80, trackers=[dm.Callback(keep)]).state
+    assert kept["memory"]["contact"]["raised"] >= 1  # the premise: kappa adapted before the resumption
+    again = dm.TimeStepper(model, 2e-3)
+    again.restore(kept["memory"])
+    resumed = again.run(model.initial_state(), steps=40, resume=kept["state"]).state
+    np.testing.assert_array_equal(resumed.X, end.X)
+    forgetful = dm.TimeStepper(model, 2e-3)
+    forgetful.restore({k: v for k, v in kept["memory"].items() if k != "contact"})
+    assert not np.array_equal(forgetful.run(model.initial_state(), steps=40, resume=kept["state"]).state.X, end.X)
+    with pytest.raises(InputError, match="memory.contact.kappa"):
+        dm.TimeStepper(model, 2e-3).restore({**kept["memory"], "contact": {"kappa": -1.0}})
 
 
 @pytest.mark.parametrize("cls,nodes", [(FDModel, (7, 7)), (FEModel, (5, 5))])
