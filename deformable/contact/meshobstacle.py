@@ -221,6 +221,14 @@ class MeshObstacle(Obstacle):
         return out
 
     @classmethod
+    def beside(cls, table: dict, folder) -> dict:
+        """A scene file's table with a relative ``path`` made relative to ``folder``, the scene file's folder."""
+        path = table.get("path")
+        if isinstance(path, (str, Path)) and not os.path.isabs(path):
+            return {**table, "path": os.path.join(str(folder), str(path))}
+        return table
+
+    @classmethod
     def from_shape(cls, vertices, faces, **motion) -> MeshObstacle:
         """A mesh obstacle of arrays (pyvista's, trimesh's, an icosphere's): ``vertices`` (Q, 3), ``faces`` (F, 3)."""
         return cls(vertices=np.asarray(vertices, float), faces=np.asarray(faces), **motion)

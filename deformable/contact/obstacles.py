@@ -222,6 +222,12 @@ class Obstacle(Registered, family="obstacle"):
         t[idx] = ti  # not converged to round-off within the iterations: still a safe step
         return t
 
+    @classmethod
+    def beside(cls, table: dict, folder) -> dict:
+        """A scene file's ``[[obstacles]]`` table of this kind with the file names in it made relative to
+        ``folder``, the scene file's folder (an analytic shape names none: the table as it is)."""
+        return table
+
     def table(self) -> dict:
         """The obstacle as a TOML table: ``kind`` and its fields."""
         out = {"kind": self.kind}

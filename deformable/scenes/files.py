@@ -31,6 +31,7 @@ from pathlib import Path
 
 from .. import tomlio
 from ..checks import known_keys
+from ..contact.obstacles import Obstacle
 from ..errors import InputError
 from .config import SceneConfig
 from .registry import SceneSpec
@@ -82,11 +83,11 @@ def read_toml_text(text: str, source: str = "<string>", base=None, **overrides) 
 
 
 def _beside(table, base: Path):
-    """An [[obstacles]] table whose relative mesh ``path`` is made relative to ``base``, the scene file's folder."""
-    if isinstance(table, dict) and table.get("kind") == "mesh" and isinstance(table.get("path"), str) \
-            and not Path(table["path"]).is_absolute():
-        return {**table, "path": str(base / table["path"])}
-    return table
+    """An [[obstacles]] table with the file names in it relative to ``base``, the scene file's folder
+    (:meth:`deformable.contact.obstacles.Obstacle.beside`, by its kind; anything else as it is, for the reader's
+    own message)."""
+    kind = table.get("kind") if isinstance(table, dict) else None
+    return Obstacle.lookup(kind).beside(table, base) if kind in Obstacle.names() else table
 
 
 def run_table(text: str, source: str = "<string>") -> dict:
