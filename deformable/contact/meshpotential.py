@@ -227,13 +227,12 @@ class MeshObstaclePotential(TriangleBarrier):
         if (t0, t1) != (self.t0, self.t1):
             self.t0, self.t1 = float(t0), float(t1)
             self.Y0, self.Y1 = self.mesh.obstacle_vertices(t0), self.mesh.obstacle_vertices(t1)
-            self._last = None
+            self._last = self._starts = None
 
     def lag(self, x, dt: float) -> None:
         """At a step's start x (flat): raise kappa by IPC's adaptive rule (module docstring), then freeze the
         friction (:meth:`TriangleBarrier.lag`)."""
-        V = self.start_vertices(x)
-        collisions = self._collisions(V)
+        V, collisions = self._start(x)
         closest = float(collisions.compute_minimum_distance(self.mesh.mesh, V)) if len(collisions) else math.inf
         floor = (ADAPTIVE_FRACTION * self.dhat) ** 2
         if closest < floor and self._closest < floor and closest < self._closest and self.kappa < self.limit:

@@ -157,9 +157,12 @@ class Obstacle(Registered, family="obstacle"):
         Whether the shape has a signed distance (:meth:`derivatives`): the sheet then meets it at its contact
         points (:mod:`deformable.contact.potential`); a mesh meets the sheet's triangles
         (:mod:`deformable.contact.meshpotential`).
+    moving : bool
+        Whether it moves on a prescribed path (the analytic shapes stand still).
     """
 
     analytic: ClassVar[bool] = True
+    moving: ClassVar[bool] = False
 
     @property
     def kind(self) -> str:

@@ -143,6 +143,7 @@ class TriangleBarrier:
         self.P = mesh.points.W.shape[0]
         self._last = None  # (x, V, collisions) of the last state asked about
         self._lagged = None  # (tangential collisions, V_n, FrictionPotential(eps_v dt)) frozen by lag, or None
+        self._starts = None  # (x, V, collisions) of the last step's start asked about (_start)
         self._zeros = np.zeros(3 * self.n)
         self.seconds = dict.fromkeys(PARTS, 0.0)
 
@@ -176,6 +177,15 @@ class TriangleBarrier:
         self._last = (x.copy(), V, collisions)
         return V, collisions
 
+    def _start(self, x):
+        """The vertices at the step's start x (flat) and their barrier's collisions, kept for the next call at the
+        same x (a subclass's own use of them at the start, then the friction's, build them once)."""
+        x = np.asarray(x, float)
+        if self._starts is None or not np.array_equal(self._starts[0], x):
+            V = self.start_vertices(x)
+            self._starts = (x.copy(), V, self._collisions(V))
+        return self._starts[1], self._starts[2]
+
     def _sheet(self, g) -> np.ndarray:
         """The toolkit's gradient over the mesh (3 V,) -> the degrees of freedom (3 ndof,): the sheet's rows by W^T."""
         return self.WvT @ np.asarray(g).ravel()[:3 * self.P]
@@ -190,8 +200,7 @@ class TriangleBarrier:
         if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not (math.isfinite(dt) and dt > 0):
             raise ValueError(f"{type(self).__name__}.lag: the step dt must be a positive finite number (s), got "
                              f"{dt!r}")
-        V = self.start_vertices(x)
-        collisions = self._collisions(V)
+        V, collisions = self._start(x)
         if len(collisions) == 0:
             return
         t0 = time.perf_counter()

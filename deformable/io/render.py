@@ -367,7 +367,7 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     first = frames[0][1][np.asarray(cells, np.int64)]  # (n, 4, 3): the cells' corners in the first frame
     cell = float(np.max(np.linalg.norm(first[:, :, None] - first[:, None, :], axis=3), initial=0.0))  # diagonals
     meshes = [obstacle_mesh(o, bounds, cell=cell) for o in obstacles]
-    moving = any(getattr(o, "moving", False) for o in obstacles)  # a mesh obstacle on its path: drawn at each t
+    moving = any(o.moving for o in obstacles)  # an obstacle on its path: drawn where it is at each frame
     view = camera(bounds)
     digits = time_digits([f[0] for f in frames])
     out_dir = Path(out_dir)
