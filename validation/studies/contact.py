@@ -250,17 +250,17 @@ def fill(res, levels: int, runner) -> None:
         res.check_all(f"incline{on}: sticks below the friction angle", f"speed below the slip speed below "
                       f"atan({FRICTION}) = {angle:.2f} deg", stick[f])
         res.check_all(f"incline{on}: slides above it", "acceleration within 2% of g (sin a - mu cos a)", slide[f])
-    near = [(r[0], r[1], r[2]) for r in rows if "diagonal" in r[0] and 0 < r[1] < 1.0]
+    near = [(c.backend.upper(), c.degrees, r["theory"], r["acceleration"]) for c, r in zip(inc, raw)
+            if c.floor == "diagonal" and 0 < r["theory"] < 1.0]  # just above the friction angle
     res.findings.append(
         "Friction against a mesh is Coulomb's where the sheet slides over the inside of a triangle: on the floor "
         "split away from the sheet the accelerations match g (sin a - mu cos a) as on the analytic plane. Where an "
         "edge of the mesh lies in the flat under the sliding sheet (the floor split along its diagonal under it), "
         "the IPC barrier of the sheet's edges against that edge adds to the faces' on either side, so the sheet "
         "rides over a ridge as it slides: 1 degree above the friction angle "
-        + ", ".join(f"{lab.split(',')[0]} {acc:.4g} against {th:.4g} m/s^2" for lab, th, acc in near)
-        + f", an effective friction coefficient of "
-        + ", ".join(f"{FRICTION + (th - acc) / (9.81 * math.cos(math.radians(angle + 1.0))):.4f}"
-                    for _, th, acc in near)
+        + ", ".join(f"{b} {acc:.4g} against {th:.4g} m/s^2" for b, _, th, acc in near)
+        + ", an effective friction coefficient of "
+        + ", ".join(f"{FRICTION + (th - acc) / (9.81 * math.cos(math.radians(deg))):.4f}" for _, deg, th, acc in near)
         + f" for mu_f = {FRICTION}.")
     res.tables.append(Table("incline", f"A sheet on an inclined plane, mu_f = {FRICTION}",
                             ("run", "g (sin a - mu cos a) (m/s^2)", "fitted acceleration (m/s^2)",
