@@ -190,8 +190,7 @@ class MeshObstacle(Obstacle):
         """The vertices (Q, 3) at time t (s) (m) (module docstring, "Motion")."""
         if not self.moving or t == 0.0:
             return self._V
-        p = np.asarray(self.pivot)
-        return (self._V - p) @ rotation(np.asarray(self.angular_velocity) * t).T + p + np.asarray(self.velocity) * t
+        return self.carried(self._V, 0.0, t)
 
     def carried(self, p, t0: float, t1: float) -> np.ndarray:
         """Where points p (P, 3) (m) riding with the obstacle from t0 are at t1 (s): its rigid motion over the step,
@@ -228,11 +227,6 @@ class MeshObstacle(Obstacle):
             return {**table, "path": os.path.join(str(folder), str(path))}
         return table
 
-    @classmethod
-    def from_shape(cls, vertices, faces, **motion) -> MeshObstacle:
-        """A mesh obstacle of arrays (pyvista's, trimesh's, an icosphere's): ``vertices`` (Q, 3), ``faces`` (F, 3)."""
-        return cls(vertices=np.asarray(vertices, float), faces=np.asarray(faces), **motion)
-
 
 def icosphere(center, radius: float, level: int) -> MeshObstacle:
     """The sphere's triangulation: an icosahedron subdivided ``level`` times (each triangle into four), its
@@ -257,7 +251,7 @@ def icosphere(center, radius: float, level: int) -> MeshObstacle:
 
         F = [g for a, b, c in F for g in ((a, middle(a, b), middle(c, a)), (b, middle(b, c), middle(a, b)),
                                            (c, middle(c, a), middle(b, c)), (middle(a, b), middle(b, c), middle(c, a)))]
-    return MeshObstacle.from_shape(np.asarray(center, float) + radius * np.asarray(V), np.asarray(F))
+    return MeshObstacle(vertices=np.asarray(center, float) + radius * np.asarray(V), faces=np.asarray(F))
 
 
 def sag(obstacle: MeshObstacle, center, radius: float) -> float:
