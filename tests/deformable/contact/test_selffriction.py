@@ -7,7 +7,6 @@ stepper, two legs of a U-fold that meet while sliding past each other stop slidi
 import dataclasses
 import math
 
-import ipctk
 import numpy as np
 import pytest
 
@@ -88,16 +87,6 @@ def test_the_friction_gradient_is_the_derivative_of_its_energy_and_its_hessian_s
     assert np.allclose(H, H.T, rtol=0, atol=1e-9 * np.max(np.abs(H)))
     assert np.linalg.eigvalsh(H).min() >= -1e-8 * np.max(np.abs(H))
     assert np.linalg.eigvalsh(Hf).min() >= -1e-8 * np.max(np.abs(Hf))
-
-
-@pytest.fixture
-def one_thread():
-    """The IPC Toolkit on one thread: on more its sums over the pairs run in a varying order, and two calls at the
-    same state may differ in the last bits (measured on 2 threads: 2 energies, 5 gradients out of 50 calls)."""
-    threads = ipctk.get_num_threads()
-    ipctk.set_num_threads(1)
-    yield
-    ipctk.set_num_threads(threads)
 
 
 def test_without_a_coefficient_or_before_a_lag_the_barrier_is_bit_for_bit_the_frictionless_one(one_thread):
