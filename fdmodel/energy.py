@@ -133,6 +133,7 @@ class SlotMap:
         self.S = S = len(rows)
         self.offset = None if offset is None else np.ascontiguousarray(offset.transpose(1, 0, 2))  # (MN, S, 3)
         self.L = sp.vstack(list(rows), format="csr")
+        self.LT = self.L.T.tocsr()  # the adjoint's own CSR (a transposed view would be converted at every call)
         m, k = np.divmod(np.arange(n), N)
         stencil = np.empty((n, len(STENCIL)), np.int64)
         for p, (dm, dn) in enumerate(STENCIL):
@@ -161,7 +162,7 @@ class SlotMap:
 
     def adjoint(self, p: np.ndarray) -> np.ndarray:
         """The nodal vector (MN, 3) of slot covectors p (MN, S, 3): L^T p."""
-        return self.L.T @ p.transpose(1, 0, 2).reshape(-1, 3)
+        return self.LT @ p.transpose(1, 0, 2).reshape(-1, 3)
 
     def tensors(self, X: np.ndarray, offset: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """G and B of the slots at every point, (2, 2, M, N) each (zero where a difference is undefined)."""
@@ -186,6 +187,7 @@ class DiscreteEnergy:
             if not np.array_equal(slots.stencil, self.parts[0][0].stencil):
                 raise ValueError("the parts of the FD energy must share the node stencils")
         self._pattern = None
+        self._slots = None  # (X, the parts' slot vectors) of the last state asked about
 
     @property
     def pattern(self) -> SymmetricElements:
@@ -194,14 +196,21 @@ class DiscreteEnergy:
             self._pattern = SymmetricElements(self._ldofs, 3 * self.n)
         return self._pattern
 
+    def slots(self, X: np.ndarray) -> list:
+        """Every part's slot vectors at X, kept for the next call at the same X (a line search asks for the energy
+        and the gradient of one point)."""
+        if self._slots is None or not np.array_equal(self._slots[0], X):
+            self._slots = (np.array(X, float), [slots(X) for slots, _ in self.parts])
+        return self._slots[1]
+
     def energy(self, X: np.ndarray) -> Energy:
         """(stretching, bending) parts of E (J)."""
-        parts = [w.energy(slots(X)) for slots, w in self.parts]
+        parts = [w.energy(v) for (_, w), v in zip(self.parts, self.slots(X))]
         return Energy(sum(e.stretching for e in parts), sum(e.bending for e in parts))
 
     def gradient(self, X: np.ndarray) -> np.ndarray:
         """Exact gradient dE/dX, (ndof, 3) (N)."""
-        return sum(slots.adjoint(w.gradient(slots(X))) for slots, w in self.parts)
+        return sum(slots.adjoint(w.gradient(v)) for (slots, w), v in zip(self.parts, self.slots(X)))
 
     def hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
         """Hessian (3 ndof, 3 ndof), coordinate-blocked, on a fixed pattern.
@@ -210,9 +219,19 @@ class DiscreteEnergy:
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
         or "projected" (:mod:`deformable.physics.integrand`).
         """
+        pat = self.pattern
+        return pat.matrix(pat.collect(self.hessian_uppers(X, kind)))
+
+    def elements(self, X: np.ndarray, kind: str = "newton"):
+        """The Hessian as element upper triangles with their pattern: (:meth:`hessian_uppers`, :attr:`pattern`)."""
+        return self.hessian_uppers(X, kind), self.pattern
+
+    def hessian_uppers(self, X: np.ndarray, kind: str = "newton") -> np.ndarray:
+        """The Hessian as element upper triangles, (MN, 171): node k's element is its stencil's 6 nodes x 3
+        coordinates (local index a 6 + p), entries in :attr:`pattern`'s order; ``kind`` as :meth:`hessian`."""
         pat, n = self.pattern, self.n  # an unknown kind: InputError from the integrand
         upper = np.zeros((n, pat.upper[0].size))
         every = np.arange(n)
-        for slots, w in self.parts:
-            w.add_element_hessians(slots(X), kind, slots.C, every, every, upper)
-        return pat.matrix(pat.collect(upper))
+        for (slots, w), v in zip(self.parts, self.slots(X)):
+            w.add_element_hessians(v, kind, slots.C, every, every, upper)
+        return upper

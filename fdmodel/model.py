@@ -385,6 +385,14 @@ class FDModel:
         self.force_model.require_energy()
         return self._energy.hessian(X, kind)
 
+    def energy_elements(self, X: np.ndarray, kind: str = "newton"):
+        """The Hessian of :meth:`energy_hessian` as element upper triangles and their pattern: ((E, nu) array,
+        :class:`deformable.algebra.elements.SymmetricElements`), or None where the energy has no elements (the
+        frozen model's constant matrix). What Newton's method assembles its matrix from
+        (:class:`deformable.algebra.upper.FreeUpper`)."""
+        self.force_model.require_energy()
+        return self._energy.elements(X, kind)
+
     def mass(self) -> sp.csr_matrix:
         """M = h1 h2 diag(mu) (times the control-area weights when chosen), kg."""
         return self._M

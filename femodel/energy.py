@@ -140,6 +140,16 @@ class DiscreteEnergy:
         "gauss-newton" (``2 J^T diag(c) J``, positive semi-definite), "definite"
         or "projected" (:mod:`deformable.physics.integrand`).
         """
+        pat = self.pattern
+        return pat.matrix(pat.collect(self.hessian_uppers(X, kind)))
+
+    def elements(self, X: np.ndarray, kind: str = "newton"):
+        """The Hessian as element upper triangles with their pattern: (:meth:`hessian_uppers`, :attr:`pattern`)."""
+        return self.hessian_uppers(X, kind), self.pattern
+
+    def hessian_uppers(self, X: np.ndarray, kind: str = "newton") -> np.ndarray:
+        """The Hessian as element upper triangles, (E, 1176), in :attr:`pattern`'s order (local index a 16 + l);
+        ``kind`` as :meth:`hessian`."""
         v = slots(X, self.ldofs, self.dq)
         pat, nq, E = self.pattern, self.nq, self.ldofs.shape[0]
         iu = pat.upper
@@ -153,4 +163,4 @@ class DiscreteEnergy:
 
         with one_blas_thread():  # BLAS threads inside the blocks' threads would fight over the cores
             for_blocks(block, range(0, E, _BLOCK))
-        return pat.matrix(pat.collect(upper))
+        return upper

@@ -357,6 +357,14 @@ class FEModel:
         self.force_model.require_energy()
         return self._energy.hessian(self._check_state(X), kind)
 
+    def energy_elements(self, X: np.ndarray, kind: str = "newton"):
+        """The Hessian of :meth:`energy_hessian` as element upper triangles and their pattern: ((E, nu) array,
+        :class:`deformable.algebra.elements.SymmetricElements`), or None where the energy has no elements (the
+        frozen model's constant matrix). What Newton's method assembles its matrix from
+        (:class:`deformable.algebra.upper.FreeUpper`)."""
+        self.force_model.require_energy()
+        return self._energy.elements(self._check_state(X), kind)
+
     def internal_force(self, X: np.ndarray) -> np.ndarray:
         """The weak internal force, (ndof, 3) (N, integrated against the basis).
 

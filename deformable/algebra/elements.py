@@ -42,7 +42,7 @@ class SymmetricElements:
 
     def __init__(self, ldofs: np.ndarray, ndof: int):
         E, nl = ldofs.shape
-        self.ndof, self.nelem = ndof, E
+        self.ndof, self.nelem, self.ldofs = ndof, E, ldofs
         self.upper = np.triu_indices(nl)
         lu, mu = self.upper
         ne = lu.size
@@ -112,12 +112,16 @@ def element_vectors(ldofs: np.ndarray, ndof: int) -> sp.csr_matrix:
 @njit(cache=True)
 def scatter_upper(upper, first, second, data):
     """Add element upper triangles (E, nu) into a CSR data array: entry k of element e at data[first[e, k]]
-    and, off the diagonal, at data[second[e, k]] too (second < 0 on the diagonal)."""
+    and, off the diagonal, at data[second[e, k]] too (second < 0 on the diagonal); first < 0: dropped (a held row
+    or column, :class:`deformable.algebra.upper.FreeUpper`)."""
     E, nu = upper.shape
     for e in range(E):
         for k in range(nu):
+            i = first[e, k]
+            if i < 0:
+                continue
             x = upper[e, k]
-            data[first[e, k]] += x
+            data[i] += x
             j = second[e, k]
             if j >= 0:
                 data[j] += x

@@ -4,16 +4,12 @@ The constraints of a scene hold some degrees of freedom; every system the
 project solves is the free-free block of a matrix on a fixed pattern, with
 the free-held block carrying the prescribed values to the right-hand side.
 :class:`ReducedSystem` builds the union pattern of the varying matrices (K,
-the Hessians, the springs', contact's and wind's) and of the constant M and
-C once, and afterwards splits any refill into its blocks by gathers: no
-sparse slicing and no sparse-sparse product per step or Newton iteration.
-
-A matrix whose pattern changes between refills (the self-contact's Hessian,
-whose entries follow the pairs in contact) enters a free block as a *loose*
-matrix (:meth:`ReducedSystem.free_block`): the block's pattern grows to the
-union of every pattern seen so far and is kept, so a solver that keeps a
-symbolic analysis (PARDISO) analyses again only when a pair couples degrees
-of freedom no earlier one did.
+the strength matrix of eq. (20) and the springs', contact's and wind's) and
+of the constant M and C once, and afterwards splits any refill into its
+blocks by gathers: no sparse slicing and no sparse-sparse product per step.
+The semi-implicit step of eq. (22)-(27) takes both blocks from here; Newton's
+matrices, whose free block alone is factorised, are
+:class:`deformable.algebra.upper.FreeUpper`'s.
 """
 
 from __future__ import annotations
@@ -88,17 +84,7 @@ class ReducedSystem:
         nf = free.size
         indptr = np.concatenate([[0], np.cumsum(np.bincount(rr[order], minlength=nf))])
         fc = np.flatnonzero(isfree[r] & ~isfree[c])
-        # each varying matrix's data index of every free-free entry: a gather where it has them all (K), else
-        # the entries it has and their data indices (the springs' few)
-        where = np.full(self.pattern.nnz, -1, np.int64)
-        sources = []
-        for idx, _, _ in self._varying:
-            where[:] = -1
-            where[idx] = np.arange(idx.size)
-            src = where[gather_ff]
-            sources.append(src if np.all(src >= 0) else (np.flatnonzero(src >= 0), src[src >= 0]))
         return dict(
-            sources=sources,
             free=free,
             fixed=fixed,
             gather_ff=gather_ff,
@@ -108,8 +94,6 @@ class ReducedSystem:
             fc_rows=new[r[fc]],
             fc_cols=newfix[c[fc]],
             shape_fc=(nf, fixed.size),
-            new=np.where(isfree, new, -1),
-            grown=None,  # with loose matrices: the grown pattern (keys, indices, indptr, the fixed entries' slots)
         )
 
     def _checked(self, K, extra) -> tuple:
@@ -127,61 +111,6 @@ class ReducedSystem:
         for (idx, _, _), B in zip(self._varying, self._checked(K, extra)):
             A[idx] += B.data
         return A
-
-    def free_block(self, K, *extra, block: int = 0, loose=()) -> sp.csc_matrix:
-        """The free-free block of A for this K and these extra matrices, gathered from their data directly.
-
-        The same matrix as ``free_matrix(data(K, *extra), blocks[block])`` without forming A's whole data:
-        the Newton matrix of every iteration (:mod:`deformable.solve.newton`). ``loose``: further symmetric
-        (n, n) matrices whose pattern may change between calls, added on the block's grown pattern (module
-        docstring); once a block has taken one, its matrices keep that pattern until a loose entry falls outside
-        it.
-        """
-        b = self.blocks[block]
-        A = b["base_ff"].copy()
-        for B, src in zip(self._checked(K, extra), b["sources"]):
-            if isinstance(src, tuple):
-                A[src[0]] += B.data[src[1]]
-            else:
-                A += B.data[src]
-        if not loose and b["grown"] is None:
-            return self._free(A, b)
-        return self._loose(A, loose, b)
-
-    def _loose(self, A: np.ndarray, loose, b) -> sp.csc_matrix:
-        """The free block of data A plus the free-free entries of the loose matrices, on the block's grown
-        pattern (grown further when an entry falls outside it)."""
-        nf = b["free"].size
-        keys, values = [np.zeros(0, np.int64)], [np.zeros(0)]
-        for L in loose:
-            L = sp.coo_matrix(L)
-            r, c = b["new"][L.row], b["new"][L.col]
-            on = (r >= 0) & (c >= 0)
-            keys.append(r[on] * nf + c[on])
-            values.append(L.data[on])
-        keys, values = np.concatenate(keys), np.concatenate(values)
-        if b["grown"] is None:
-            rows = np.repeat(np.arange(nf, dtype=np.int64), np.diff(b["indptr"]))
-            b["fixed_keys"] = rows * nf + b["indices"]  # row-major: sorted
-            b["grown"] = self._grow(b["fixed_keys"], b["fixed_keys"], nf)
-        gkeys, indices, indptr, slots = b["grown"]
-        at = np.searchsorted(gkeys, keys)
-        found = (at < gkeys.size) & (gkeys[np.minimum(at, gkeys.size - 1)] == keys)
-        if not np.all(found):  # entries the pattern has not seen: merged in (a sorted insertion, no re-sort)
-            missing = np.unique(keys[~found])
-            b["grown"] = self._grow(np.insert(gkeys, np.searchsorted(gkeys, missing), missing), b["fixed_keys"], nf)
-            gkeys, indices, indptr, slots = b["grown"]
-            at = np.searchsorted(gkeys, keys)
-        data = np.bincount(at, weights=values, minlength=gkeys.size) if keys.size else np.zeros(gkeys.size)
-        data[slots] += A
-        return sp.csc_matrix((data, indices, indptr), shape=(nf, nf))
-
-    @staticmethod
-    def _grow(keys: np.ndarray, fixed_keys: np.ndarray, nf: int) -> tuple:
-        """A grown pattern from its sorted row-major keys: (keys, indices, indptr, the fixed entries' slots)."""
-        indices = (keys % nf).astype(np.int32)
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // nf, minlength=nf))]).astype(np.int32)
-        return keys, indices, indptr, np.searchsorted(keys, fixed_keys)
 
     def free_matrix(self, A: np.ndarray, block) -> sp.csc_matrix:
         """The free-free block of A's data for one block split (CSC; symmetric, so also its own CSR transpose)."""

@@ -3,11 +3,11 @@ r"""Where Newton's directions come from: the Newton matrix, its factorisation ke
 :class:`Directions` is the linear algebra of one :class:`deformable.solve.newton.Newton` object (one run):
 
 - the Newton matrix ``c_M M + c_C C + Hess E`` (+ the springs' Hessian and
-  the wind's damping) lives on the Hessian's fixed pattern, reduced to the
-  free degrees of freedom by precomputed gathers
-  (:class:`deformable.algebra.reduced.ReducedSystem`); the self-contact's
-  Hessian, whose pattern follows the pairs in contact, on a pattern that
-  grows (``loose``);
+  the wind's damping) is assembled as its free block's upper triangle, the
+  factorisation's own input, from the energy's element Hessians by
+  precomputed slots (:class:`deformable.algebra.upper.FreeUpper`); the
+  self-contact's Hessian, whose pattern follows the pairs in contact, on a
+  pattern that grows (``loose``);
 - a factorisation is made positive definite: by default ("auto") the exact
   Hessian's when the factorisation finds it positive definite (Cholesky in
   PARDISO, the pivots of SuperLU's LDL^T), else the *definite* Hessian's
@@ -39,7 +39,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ..algebra.reduced import ReducedSystem
+from ..algebra.upper import FreeUpper
 from ..algebra.solvers import make_solver
 from ..checks import real
 from ..errors import InputError, SingularMatrix
@@ -86,13 +86,14 @@ class Directions:
         p = self.problem
         kind = kind or self.settings.hessian
         kind = "newton" if kind == "auto" else kind
-        H = p.hessian(x, kind)
+        H, elements = p.hessian_elements(x, kind)
         extra = p.extra_hessians(x, self.damping, kind)
         if self._system is None:
-            self._system = ReducedSystem(H, p.M, p.C, cm, cc, [p.fixed], extra)
+            self._system = FreeUpper(p.M.shape[0], p.fixed, p.M, p.C, cm, cc, H if elements is None else elements,
+                                     extra)
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
-        A = self._system.free_block(H, *extra, loose=p.loose_hessians(x))
+        A = self._system.assemble(H, extra, loose=p.loose_hessians(x))
         if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
             self.stiffness = np.zeros(3 * p.n)
             self.stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]
@@ -132,7 +133,7 @@ class Directions:
         scale = float(np.mean(np.abs(A.diagonal()))) or 1.0
         for shift in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
             try:
-                self.solver.factor(A if not shift else A + shift * scale * sp.identity(A.shape[0], format="csc"))
+                self.solver.factor(A if not shift else A.shifted(shift * scale))
                 break
             except SingularMatrix:
                 continue

@@ -193,13 +193,13 @@ class Newton:
         self.directions.floor = float(value)
 
     def newton_matrix(self, x, cm: float, cc: float, report: NewtonReport | None = None, kind: str | None = None):
-        """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC), on the fixed pattern.
+        """The free block of c_M M + c_C C + Hess E (+ the extra matrices) at x (CSC, both triangles).
 
         ``kind``: the Hessian (default the settings'; "auto" is the exact one
         here). The extra matrices are the springs' Hessian and the damping set
         by :meth:`minimise` (the wind's, times c_C).
         """
-        return self.directions.matrix(x, cm, cc, NewtonReport() if report is None else report, kind)
+        return self.directions.matrix(x, cm, cc, NewtonReport() if report is None else report, kind).tocsc()
 
     def minimise(self, phi, grad, x, cm: float = 0.0, cc: float = 0.0, label: str = "Newton", damping=None,
                  scale: float | None = None, load: float | None = None, xtol: float | None = None):
@@ -336,8 +336,8 @@ class Newton:
             # a chord is dropped when it does not pay (contraction), when it is short but contracted less than
             # twofold (its length alone bounds no error), or, first of the solve (a factorisation from an earlier
             # step), when its step does not decrease phi sufficiently (a soft mode of the lagged matrix)
-            if last is None:
-                drop = size > xtol and not self._descends(phi, x, g, d)
+            if last is None:  # a fresh factorisation's direction is Newton's own: nothing to check
+                drop = not D.here and size > xtol and not self._descends(phi, x, g, d)
             else:
                 drop = size > 0.5 * last if size <= xtol else D.slow(size, last, xtol)
             if not D.here and drop:

@@ -114,6 +114,13 @@ class FlatEnergy:
         """The elastic energy's Hessian (the springs' is :meth:`extra_hessians`)."""
         return self.model.energy_hessian(unflat(x, self.n), kind)
 
+    def hessian_elements(self, x, kind: str = "newton"):
+        """The elastic energy's Hessian as the Newton matrix assembles it: (element upper triangles (E, nu), their
+        :class:`deformable.algebra.elements.SymmetricElements`) where the model has elements, else (the whole
+        matrix, None) (:meth:`deformable.Backend.energy_elements`)."""
+        parts = self.model.energy_elements(unflat(x, self.n), kind)
+        return (self.hessian(x, kind), None) if parts is None else parts
+
     def extra_hessians(self, x, damping=None, kind: str = "newton") -> list:
         """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians
         at x (the contact's of ``kind``), and ``damping``."""

@@ -56,6 +56,10 @@ class QuadraticEnergy:
         """The coordinate-blocked Hessian diag(K, K, K) (exact, whatever ``kind``)."""
         return sp.kron(sp.identity(3), self.K, format="csr")
 
+    def elements(self, X: np.ndarray, kind: str = "newton"):
+        """None: a constant matrix has no element Hessians (:meth:`deformable.Backend.energy_elements`)."""
+        return None
+
 
 class Frozen(StrengthModel):
     """alpha and beta given by the Material (module docstring)."""

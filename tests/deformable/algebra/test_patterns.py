@@ -76,29 +76,3 @@ def test_reduced_system_gives_the_blocks_of_K_plus_cm_M_plus_cc_C(rng):
         system.data(other)
 
 
-def test_reduced_system_free_block_is_the_free_matrix_of_its_data(rng):
-    """free_block gathers from K and the extra matrices directly: the same matrix as the data route, for a K
-    that has every entry of the system (a plain gather) and one that lacks some (entries and indices), with
-    an extra matrix (a spring's) that has only a few."""
-    n = 12
-    K0 = sp.random(n, n, density=0.3, random_state=3, format="csr")
-    K0 = canonical(K0 + K0.T)
-    M, C = sp.diags(rng.uniform(1, 2, n), format="csr"), sp.diags(rng.uniform(0, 1, n), format="csr")
-    S = canonical(sp.csr_matrix(([1.0, -1.0, -1.0, 1.0], ([2, 2, 9, 9], [2, 9, 2, 9])), shape=(n, n)))
-    fixed = np.array([1, 5])
-    free = np.setdiff1d(np.arange(n), fixed)
-    for K, gathered in ((canonical(K0 + sp.identity(n) + abs(S)), True), (K0, False)):
-        system = ReducedSystem(K, M, C, 3.0, 0.5, [fixed], [S])
-        assert isinstance(system.blocks[0]["sources"][0], np.ndarray) == gathered
-        for scale in (1.0, 2.5):
-            k, s = symmetric_values(K, rng), S.copy()
-            s.data = scale * S.data
-            system.rescale(3.0 * scale, 0.5)
-            ref = (k + s + 3.0 * scale * M + 0.5 * C).toarray()[np.ix_(free, free)]
-            np.testing.assert_allclose(system.free_block(k, s).toarray(), ref, rtol=0, atol=1e-14)
-            np.testing.assert_array_equal(system.free_block(k, s).data,
-                                          system.free_matrix(system.data(k, s), system.blocks[0]).data)
-        with pytest.raises(ValueError, match="extra matrices"):
-            system.free_block(K)
-        with pytest.raises(ValueError, match="changed its sparsity pattern"):
-            system.free_block(canonical(K + 2 * sp.identity(n) + sp.csr_matrix(([1.0], ([0], [11])), shape=(n, n))), S)

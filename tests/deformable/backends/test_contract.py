@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import deformable as dm
+from deformable.algebra.upper import FreeUpper
 from validation.harness.backends import make_model
 from validation.harness.surfaces import get
 
@@ -24,7 +25,7 @@ from ...conftest import FULL_ETA, FULL_XI, flat_model, flat_scene, gradient_erro
 ATTRIBUTES = {"scene", "ndof", "linear", "spacing", "value_dofs", "points", "mu", "loads", "contact_samples"}
 METHODS = {"initial_state", "discretize", "grid", "tensors", "sample", "stiffness", "mass", "damping", "load",
            "internal_force", "fixed_dofs", "prescribed", "stable_step", "energy", "kinetic_energy",
-           "energy_gradient", "energy_hessian", "integrate", "at_points", "density_matrix", "point_dofs", "edge_rule", "patches",
+           "energy_gradient", "energy_hessian", "energy_elements", "integrate", "at_points", "density_matrix", "point_dofs", "edge_rule", "patches",
            "point_matrix"}
 #: degrees of freedom per node
 NODE_DOFS = {"fd": 1, "fe": 4}
@@ -98,6 +99,29 @@ def test_satisfies_the_protocol_with_the_documented_shapes(backend):
     assert var.energy_gradient(X).shape == (n, 3)
     np.testing.assert_array_equal(var.internal_force(X), var.energy_gradient(X))
     assert var.energy_hessian(X).shape == (3 * n, 3 * n)
+
+
+def test_the_element_hessians_sum_to_the_hessian_and_the_newton_block_holds_it(backend):
+    """energy_elements: element upper triangles whose sum on their pattern is energy_hessian, bit for bit; the
+    Newton matrix's free upper block (FreeUpper) assembled from them is that Hessian's free block plus c_M M + c_C C
+    to round-off; the frozen model's constant matrix has no elements."""
+    model = make_model(curved_scene((6, 5), "variational"), backend)
+    X = model.initial_state() + 1e-2 * np.random.default_rng(3).standard_normal((model.ndof, 3))
+    for kind in ("newton", "definite"):
+        uppers, pattern = model.energy_elements(X, kind)
+        H = model.energy_hessian(X, kind)
+        np.testing.assert_array_equal(pattern.matrix(pattern.collect(uppers)).toarray(), H.toarray())
+    n3 = 3 * model.ndof
+    M = sp.kron(sp.identity(3), model.mass(), format="csr")
+    fixed = np.arange(0, n3, 7)  # some held rows and columns, dropped from the block
+    free = np.setdiff1d(np.arange(n3), fixed)
+    block = FreeUpper(n3, fixed, M, M, 2.0, 0.5, pattern)
+    A = block.assemble(model.energy_elements(X)[0]).tocsc().toarray()
+    whole = (model.energy_hessian(X) + 2.5 * M).toarray()[np.ix_(free, free)]
+    np.testing.assert_allclose(A, whole, rtol=0, atol=1e-12 * np.abs(whole).max())
+    frozen = make_model(dm.Scene(dm.Sheet(nodes=(6, 5)), dm.Material(mu=1.0, alpha=1.0), force_model="frozen"),
+                        backend)
+    assert frozen.energy_elements(frozen.initial_state()) is None
 
 
 def test_grid_is_the_value_rows_and_the_initial_shape_at_the_nodes(backend):

@@ -49,6 +49,9 @@ class Diagonal:
         n = self.n  # an explicit CSR diagonal: the same pattern whatever the values (zeros included)
         return sp.csr_matrix((f(x - self.c), np.arange(n), np.arange(n + 1)), shape=(n, n))
 
+    def hessian_elements(self, x, kind):
+        return self.hessian(x, kind), None  # no element Hessians: the whole matrix
+
     def extra_hessians(self, x, damping=None, kind="newton"):
         return [] if damping is None else [damping]
 
