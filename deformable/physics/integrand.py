@@ -63,10 +63,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry import tensors
-from . import kernels
+from . import kernels, pointhessian
 from .energy import Energy
 from .force_models.base import RESIDUALS as RESIDUAL_NAMES
-from .force_models.base import energy_density
 
 __all__ = ["Integrand", "DensityIntegrand", "slot_tensors", "for_blocks", "hessian_threads", "HESSIANS", "FE_SLOTS",
            "FD_SLOTS"]
@@ -188,13 +187,16 @@ class Integrand(_Points):
         self._bend = np.array([slots[k] for k in _BEND], np.int64)
         self.c = np.ascontiguousarray(np.concatenate([self.cS, self.cB]))
         self.r0 = np.ascontiguousarray(np.concatenate([self.f0, self.g0]))
+        # the energy kernel's view: components (11, 22, 12, 21) of the weights and rest tensors (4, P)
+        self._components = tuple(np.ascontiguousarray(np.stack([a[0, 0], a[1, 1], a[0, 1], a[1, 0]]))
+                                 for a in (self.eta, self.G0, self.xi, self.B0))
 
     # -- energy -----------------------------------------------------------------------
     def energy(self, v: np.ndarray) -> Energy:
-        """Eq. (13) summed over the points: (stretching, bending) (J)."""
-        G, B = slot_tensors(v, self.slots, curvature=self.bending)
-        stretching, bending = energy_density(self.eta, self.xi, G, self.G0, B, self.B0)
-        return Energy(float(stretching.sum()), float(bending.sum()))
+        """Eq. (13) summed over the points: (stretching, bending) (J) (compiled, :func:`kernels.energy_sums`)."""
+        stretching, bending = kernels.energy_sums(np.ascontiguousarray(v, float), self._sl, self._bend,
+                                                  *self._components, self.bending)
+        return Energy(stretching, bending)
 
     # -- derivatives ------------------------------------------------------------------
     def gradient(self, v: np.ndarray, sl=slice(None)) -> np.ndarray:
@@ -209,10 +211,23 @@ class Integrand(_Points):
         return np.ascontiguousarray(v, float), self._sl, self._bend, c, r0, kernels.KINDS[kind], self.bending
 
     def _point_hessians(self, v, kind, sl):
-        """(P, 3S, 3S); "projected" from the exact ones by an eigen-decomposition."""
+        """(P, 3S, 3S), block by block (:mod:`deformable.physics.pointhessian`); "projected" from the exact ones by
+        an eigen-decomposition."""
         args = self._kernel_args(v, "newton" if kind == "projected" else kind, sl)
-        H = kernels.point_hessians(*args)
+        H = pointhessian.point_hessians(*args)
         return kernels.positive_part(H) if kind == "projected" else H
+
+    def add_element_hessians(self, v, kind, table, which, element, out) -> None:
+        """:meth:`_Points.add_element_hessians`, each point's Hessian carried to its element as it is formed
+        (:func:`deformable.physics.pointhessian.element_hessians`); "projected" by the point Hessians."""
+        if kind == "projected":
+            return super().add_element_hessians(v, kind, table, which, element, out)
+
+        def block(lo):
+            pts = slice(lo, min(lo + _BLOCK, v.shape[0]))
+            pointhessian.element_hessians(*self._kernel_args(v[pts], kind, pts), table, which[pts], element[pts], out)
+
+        for_blocks(block, range(0, v.shape[0], _BLOCK), parallel=bool(np.all(np.diff(element) > 0)))
 
     def hessian(self, v: np.ndarray, kind: str = "newton", sl=slice(None)) -> np.ndarray:
         """The Hessian of W in the slots at the points ``sl``, (P, S, 3, S, 3); ``kind`` one of :data:`HESSIANS`."""

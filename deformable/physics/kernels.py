@@ -28,7 +28,7 @@ B12), weights c (6,), and forces F = 2 c (s, b) - (f0, g0):
   :func:`positive_part` (numpy: LAPACK's batched eigh, and no LAPACK to compile).
 
 The gradient at a point is ``sum_r F_r J_r`` with the same Jacobian
-(:func:`point_gradients`). Kinds are integers here: :data:`KINDS`.
+(:func:`point_gradients`), and its value :func:`energy_sums`. Kinds are integers here: :data:`KINDS`.
 """
 
 from __future__ import annotations
@@ -36,14 +36,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["KINDS", "point_gradients", "point_hessians", "element_upper", "positive_part"]
+__all__ = ["KINDS", "energy_sums", "point_gradients", "point_hessians", "element_upper", "positive_part",
+           "positive_part_2x2", "cross_into", "skew_into", "project_upper", "row_starts", "add_bending_second_order"]
 
 #: Hessian kind name -> the kernels' code
 KINDS = {"newton": 0, "gauss-newton": 1, "definite": 2, "projected": 3}
 
 
 @njit(cache=True)
-def _positive_part_2x2(a, b, d):
+def positive_part_2x2(a, b, d):
     """The positive semi-definite part of [[a, b], [b, d]] as (a', b', d')."""
     mean, half = 0.5 * (a + d), np.hypot(0.5 * (a - d), b)
     lam1, lam2 = mean + half, mean - half
@@ -61,14 +62,14 @@ def _positive_part_2x2(a, b, d):
 
 
 @njit(cache=True)
-def _cross(a, b, out):
+def cross_into(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
 @njit(cache=True)
-def _skew_into(a, M, r0, c0, sign):
+def skew_into(a, M, r0, c0, sign):
     """M[r0:r0+3, c0:c0+3] += sign [a]x."""
     M[r0 + 0, c0 + 1] -= sign * a[2]
     M[r0 + 0, c0 + 2] += sign * a[1]
@@ -103,7 +104,7 @@ def _jacobian(v, sl, bend, bending, J, R, sc):
         return 3, 1.0
     it1, it2 = sl[2], sl[3]
     n, w, t = sc[0], sc[1], sc[2]
-    _cross(v[it1], v[it2], n)
+    cross_into(v[it1], v[it2], n)
     area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
     for a in range(3):
         n[a] /= area
@@ -113,10 +114,10 @@ def _jacobian(v, sl, bend, bending, J, R, sc):
         R[3 + k] = Bk
         for a in range(3):
             w[a] = (v[ik, a] - Bk * n[a]) / area
-        _cross(v[it2], w, t)
+        cross_into(v[it2], w, t)
         for a in range(3):
             J[3 + k, 3 * it1 + a] += t[a]
-        _cross(w, v[it1], t)
+        cross_into(w, v[it1], t)
         for a in range(3):
             J[3 + k, 3 * it2 + a] += t[a]
             J[3 + k, 3 * ik + a] += n[a]
@@ -161,22 +162,10 @@ def _clear(H):
 
 
 @njit(cache=True)
-def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt, Q):
-    """Add the residuals' own second derivatives, weighted by the forces F, to H (3S, 3S): the membrane part
-    ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite") and, with bending and
-    not "definite", the second derivative of ``V . n``, ``V = sum_k F_bk v_k`` (module docstring)."""
-    i1, i2, it1, it2 = sl[0], sl[1], sl[2], sl[3]
-    m11, m12, m22 = 2.0 * F[0], F[2], 2.0 * F[1]
-    if kind == 2:
-        m11, m12, m22 = _positive_part_2x2(m11, m12, m22)
-    for a in range(3):
-        H[3 * i1 + a, 3 * i1 + a] += m11
-        H[3 * i1 + a, 3 * i2 + a] += m12
-        H[3 * i2 + a, 3 * i1 + a] += m12
-        H[3 * i2 + a, 3 * i2 + a] += m22
-    if kind == 2 or not bending:
-        return
-    V, W = sc[3], sc[4]
+def add_bending_second_order(v, it1, it2, bend, F, n, area, H, V, W, Cm, Hf, T6, Htt, Q):
+    """H (3S, 3S) += the second derivative of ``V . n``, ``V = sum_k F[3 + k] v_k`` (the bending forces F_bk times
+    the second-derivative slots), in the normal's tangents (t1, t2) and its mixed blocks with each v_k (module
+    docstring); n the unit normal, area = |t1 x t2|; V, W (3,), Cm, T6, Q (3, 6), Hf (3, 3), Htt (6, 6) scratch."""
     for a in range(3):
         V[a] = F[3] * v[bend[0], a] + F[4] * v[bend[1], a] + F[5] * v[bend[2], a]
     Vn = V[0] * n[0] + V[1] * n[1] + V[2] * n[2]
@@ -189,8 +178,8 @@ def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt
     for a in range(3):  # C = [-[t2]x, [t1]x] (3 x 6)
         for b in range(6):
             Cm[a, b] = 0.0
-    _skew_into(v[it2], Cm, 0, 0, -1.0)
-    _skew_into(v[it1], Cm, 0, 3, 1.0)
+    skew_into(v[it2], Cm, 0, 0, -1.0)
+    skew_into(v[it1], Cm, 0, 3, 1.0)
     for a in range(3):  # T6 = Hf C; Htt = C^T T6
         for b in range(6):
             x = 0.0
@@ -203,8 +192,8 @@ def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt
             for e in range(3):
                 x += Cm[e, a] * T6[e, b]
             Htt[a, b] = x
-    _skew_into(W, Htt, 0, 3, -1.0)
-    _skew_into(W, Htt, 3, 0, 1.0)
+    skew_into(W, Htt, 0, 3, -1.0)
+    skew_into(W, Htt, 3, 0, 1.0)
     for a in range(3):  # Q = P C / |c|
         for b in range(6):
             x = 0.0
@@ -226,6 +215,25 @@ def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt
                     x = g * Q[a, 3 * i + b]
                     H[3 * ik + a, 3 * tt[i] + b] += x
                     H[3 * tt[i] + b, 3 * ik + a] += x
+
+
+@njit(cache=True)
+def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt, Q):
+    """Add the residuals' own second derivatives, weighted by the forces F, to H (3S, 3S): the membrane part
+    ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite") and, with bending and
+    not "definite", the second derivative of ``V . n``, ``V = sum_k F_bk v_k`` (module docstring)."""
+    i1, i2 = sl[0], sl[1]
+    m11, m12, m22 = 2.0 * F[0], F[2], 2.0 * F[1]
+    if kind == 2:
+        m11, m12, m22 = positive_part_2x2(m11, m12, m22)
+    for a in range(3):
+        H[3 * i1 + a, 3 * i1 + a] += m11
+        H[3 * i1 + a, 3 * i2 + a] += m12
+        H[3 * i2 + a, 3 * i1 + a] += m12
+        H[3 * i2 + a, 3 * i2 + a] += m22
+    if kind == 2 or not bending:
+        return
+    add_bending_second_order(v, sl[2], sl[3], bend, F, n, area, H, sc[3], sc[4], Cm, Hf, T6, Htt, Q)
 
 
 @njit(cache=True)
@@ -324,6 +332,45 @@ def point_residuals(v, sl, bend, bending):
     return out
 
 
+@njit(cache=True)
+def energy_sums(v, sl, bend, eta, G0, xi, B0, bending):
+    """Eq. (13)'s integrand summed over the points: (stretching, bending) (J).
+
+    ``eta``, ``G0``, ``xi``, ``B0``: (4, P), the components (11, 22, 12, 21) of the weights and rest tensors at each
+    point (weights already times the quadrature weights); the metric's and curvature's 12 and 21 components are
+    one value (G and B are symmetric), each weighed by its own weight against its own rest value.
+    """
+    P = v.shape[0]
+    R, n = np.zeros(6), np.zeros(3)
+    stretching = 0.0
+    curving = 0.0
+    for p in range(P):
+        x = v[p]
+        i1, i2 = sl[0], sl[1]
+        R[0] = x[i1, 0] * x[i1, 0] + x[i1, 1] * x[i1, 1] + x[i1, 2] * x[i1, 2]
+        R[1] = x[i2, 0] * x[i2, 0] + x[i2, 1] * x[i2, 1] + x[i2, 2] * x[i2, 2]
+        R[2] = x[i1, 0] * x[i2, 0] + x[i1, 1] * x[i2, 1] + x[i1, 2] * x[i2, 2]
+        e = 0.0
+        for k in range(4):
+            r = R[min(k, 2)] - G0[k, p]
+            e += eta[k, p] * r * r
+        stretching += e
+        if bending:
+            cross_into(x[sl[2]], x[sl[3]], n)  # the arithmetic of the rest tensors' (tensors.frame): residuals 0 at rest
+            area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+            for a in range(3):
+                n[a] = n[a] / area
+            for k in range(3):
+                ik = bend[k]
+                R[3 + k] = n[0] * x[ik, 0] + n[1] * x[ik, 1] + n[2] * x[ik, 2]
+            e = 0.0
+            for k in range(4):
+                r = R[3 + min(k, 2)] - B0[k, p]
+                e += xi[k, p] * r * r
+            curving += e
+    return stretching, curving
+
+
 @njit(cache=True, nogil=True)
 def point_hessians(v, sl, bend, c, r0, kind, bending):
     """The Hessian of eq. (13)'s integrand at every point, (P, 3S, 3S) (index 3 slot + coordinate).
@@ -366,7 +413,7 @@ def point_hessians_general(v, sl, bend, F, Hr, kind, bending):
 
 
 @njit(cache=True)
-def _rowstart(nl):
+def row_starts(nl):
     """Offset of row i in the row-major upper triangle of an nl x nl matrix, minus i."""
     start = np.zeros(nl, np.int64)
     for i in range(1, nl):
@@ -377,24 +424,38 @@ def _rowstart(nl):
 
 
 @njit(cache=True)
-def _project(Hp, B, row, T, start):
-    """row += upper triangle of B^T Hp B (x I3): Hp (3S, 3S), B (S, L), row (3L (3L + 1) / 2), T scratch (S, 3, 3L)."""
+def project_upper(Hp, B, row, T, start, mask):
+    """row += upper triangle of B^T Hp B (x I3): Hp (3S, 3S), B (S, L), row (3L (3L + 1) / 2), T scratch (S, 3, 3L);
+    ``mask`` (S, S): the slot blocks of Hp that may be nonzero (the others are skipped), and slots of no element
+    node (a zero row of B) skipped too."""
     S, L = B.shape
     nl = 3 * L
+    used = np.zeros(S, np.bool_)
+    for t in range(S):
+        for m in range(L):
+            if B[t, m] != 0.0:
+                used[t] = True
     # T[s, a, b L + m] = sum_t H[s a, t b] B[t, m]  (inner loops contiguous: vectorised)
     for s in range(S):
+        if not used[s]:
+            continue
         for a in range(3):
             Tsa = T[s, a]
             for j in range(nl):
                 Tsa[j] = 0.0
             for t in range(S):
+                if not (used[t] and mask[s, t]):
+                    continue
+                Bt = B[t]
                 for b in range(3):
                     h = Hp[3 * s + a, 3 * t + b]
                     if h != 0.0:
                         for m in range(L):
-                            Tsa[b * L + m] += h * B[t, m]
+                            Tsa[b * L + m] += h * Bt[m]
     # row[(a L + l, j)] += sum_s B[s, l] T[s, a, j] for j >= a L + l
     for s in range(S):
+        if not used[s]:
+            continue
         for l in range(L):
             x = B[s, l]
             if x != 0.0:
@@ -424,9 +485,10 @@ def element_upper(H, table, which, element, out):
     """
     S, L = table.shape[1], table.shape[2]
     T = np.zeros((S, 3, 3 * L))
-    start = _rowstart(3 * L)
+    start = row_starts(3 * L)
+    mask = np.ones((S, S), np.bool_)
     for p in range(H.shape[0]):
-        _project(H[p], table[which[p]], out[element[p]], T, start)
+        project_upper(H[p], table[which[p]], out[element[p]], T, start, mask)
 
 
 def positive_part(H: np.ndarray) -> np.ndarray:

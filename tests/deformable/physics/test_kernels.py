@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from deformable.errors import InputError
-from deformable.physics import kernels
+from deformable.physics import kernels, pointhessian
 from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, HESSIANS, Integrand, slot_tensors
 
 
@@ -71,6 +71,26 @@ def test_element_projection_is_BT_H_B_summed_over_the_points(rng):
     np.testing.assert_allclose(out, ref.reshape(E, 3 * L, 3 * L)[:, iu[0], iu[1]], rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.parametrize("kind", ["newton", "gauss-newton", "definite"])
+@pytest.mark.parametrize("slots", [FD_SLOTS, FE_SLOTS], ids=["fd", "fe"])
+def test_the_block_kernels_of_eq13_are_the_general_ones(slots, kind, rng):
+    """Eq. (13)'s point Hessian written block by block (deformable.physics.pointhessian) is the general kernels' (a
+    dense Jacobian and a residual Hessian 2 c), to round-off, and its fused projection onto elements (sparse and
+    dense rows, every slot block) is the general projection of the general point Hessians."""
+    w, v = random_integrand(rng, slots, P=12)
+    args = w._kernel_args(v, kind, slice(None))
+    general = kernels.point_hessians(*args)
+    np.testing.assert_allclose(pointhessian.point_hessians(*args), general, rtol=0,
+                               atol=1e-13 * np.max(np.abs(general)))
+    L, E = 6, 4
+    table = rng.normal(size=(5, w.S, L)) * (rng.random(size=(5, w.S, L)) < 0.6)
+    which, element = rng.integers(0, 5, size=12), rng.integers(0, E, size=12)
+    ref, out = np.zeros((2, E, 3 * L * (3 * L + 1) // 2))
+    kernels.element_upper(general, table, which, element, ref)
+    pointhessian.element_hessians(*args, table, which, element, out)
+    np.testing.assert_allclose(out, ref, rtol=0, atol=1e-13 * np.max(np.abs(ref)))
+
+
 def test_an_unknown_hessian_kind_is_refused(rng):
     w, v = random_integrand(rng, FD_SLOTS, P=2)
     with pytest.raises(InputError, match="hessian kind"):
@@ -82,7 +102,7 @@ def test_positive_part_of_a_2x2_matrix(m):
     a, b, d = m
     lam, U = np.linalg.eigh(np.array([[a, b], [b, d]]))
     ref = (U * np.maximum(lam, 0)) @ U.T
-    got = kernels._positive_part_2x2(a, b, d)
+    got = kernels.positive_part_2x2(a, b, d)
     np.testing.assert_allclose(got, (ref[0, 0], ref[0, 1], ref[1, 1]), atol=1e-12)
 
 
