@@ -2,14 +2,16 @@ r"""How a bench measures: in a process of its own (its peak memory is its own), 
 factorisation and solve, a few timed steps after a warm-up, a shipped scene on a grid of the backend's own unit; and
 how a bench's rows are printed and written (a markdown table, a CSV).
 
-Times are wall-clock seconds (``time.perf_counter``) on a machine the bench has to itself; memory is the
-process's maximum resident set (MB).
+Times are wall-clock seconds (``time.perf_counter``) on a machine the bench has to itself, or, where the machine
+is shared (two cores, other work beside), CPU seconds (``time.process_time``) with every thread pool held to one
+thread (:func:`one_thread`); memory is the process's maximum resident set (MB).
 """
 
 from __future__ import annotations
 
 import csv
 import multiprocessing as mp
+import os
 import resource
 import time
 from dataclasses import asdict
@@ -23,8 +25,8 @@ from deformable import scenes
 from deformable.dynamics import TimeStepper
 from validation.harness.backends import descriptor
 
-__all__ = ["peak_memory", "in_own_process", "best_of", "direct_solve_time", "scene_config", "grid_label",
-           "timed_steps", "write_csv", "emit"]
+__all__ = ["peak_memory", "in_own_process", "one_thread", "best_of", "direct_solve_time", "scene_config",
+           "grid_label", "timed_steps", "write_csv", "emit"]
 
 
 def peak_memory() -> float:
@@ -37,6 +39,20 @@ def in_own_process(fn, *args):
     ctx = mp.get_context("fork")
     with ctx.Pool(1) as pool:
         return pool.apply(fn, args)
+
+
+def one_thread() -> None:
+    """Hold this process to one thread for good, so that its CPU time is one core's work: OpenMP, MKL (PARDISO)
+    and OpenBLAS by their environment (read when each starts) and by threadpoolctl (those already loaded), the
+    Hessian's blocks (:func:`deformable.physics.integrand.hessian_threads` reads OMP_NUM_THREADS) and the IPC
+    Toolkit's TBB threads. Meant for a row's own forked process (:func:`in_own_process`)."""
+    import ipctk
+    from threadpoolctl import threadpool_limits
+
+    for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS"):
+        os.environ[name] = "1"
+    threadpool_limits(1)
+    ipctk.set_num_threads(1)
 
 
 def best_of(fn, repeats: int = 3) -> float:
@@ -96,7 +112,7 @@ def write_csv(path: Path, rows, extra=()) -> None:
         writer = csv.writer(fh)
         writer.writerow(list(asdict(rows[0]).keys()) + [name for name, _ in extra])
         for r in rows:
-            writer.writerow(list(asdict(r).values()) + [f"{fn(r):.4f}" for _, fn in extra])
+            writer.writerow(list(asdict(r).values()) + [f"{fn(r):.6g}" for _, fn in extra])
 
 
 def emit(path: Path, rows, table, extra=()) -> None:

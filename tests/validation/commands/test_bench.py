@@ -13,7 +13,8 @@ from validation.commands import main
 
 def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--implicit-fd", "8",
-                 "--implicit-fe", "4", "--contact-fd", "6", "--contact-fe", "3", "--contact-steps", "3",
+                 "--implicit-fe", "4", "--implicit-time", "0.02", "--contact-fd", "6", "--contact-fe", "3",
+                 "--contact-steps", "3",
                  "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "step / (factor+solve)" in out and "| fd | 12x12 |" in out and "| fe | 12x12 |" in out
@@ -31,12 +32,16 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
         implicit = list(csv.DictReader(fh))
     assert [(r["backend"], r["grid"]) for r in implicit] == [("fd", "8x8"), ("fe", "4x4")]
     for r in implicit:
-        assert float(r["newton_per_step"]) >= 1 and float(r["factorisations_per_step"]) >= 1
-        iteration = float(r["step"]) / float(r["newton_per_step"])
-        assert float(r["iteration_ratio"]) == pytest.approx(iteration / (float(r["factor"]) + float(r["solve"])),
-                                                           rel=1e-3)
-        assert float(r["step_ratio"]) == pytest.approx(float(r["step"]) / float(r["semi_implicit_step"]), rel=1e-3)
-    assert "Newton iterations / step" in out and "iteration / (factor+solve)" in out
+        its = float(r["newton_per_step"])
+        assert its >= 1 and float(r["factorisations_per_step"]) > 0 and int(r["steps"]) == 3  # 0.02 s at 5 ms, the first step untimed
+        kernels = {k: float(r[k]) for k in ("energy", "gradient", "hessian", "factor", "solve")}
+        assert all(v > 0 for v in kernels.values())
+        floor = kernels["hessian"] + kernels["factor"] + its * (kernels["solve"] + kernels["gradient"])
+        assert float(r["floor_step"]) == pytest.approx(floor, rel=1e-3)
+        assert float(r["step_ratio"]) == pytest.approx(float(r["step"]) / floor, rel=1e-3)
+        assert float(r["iteration_ratio"]) == pytest.approx(float(r["step"]) / its / sum(kernels.values()), rel=1e-3)
+        assert float(r["semi_ratio"]) == pytest.approx(float(r["step"]) / float(r["semi_implicit_step"]), rel=1e-3)
+    assert "Newton / step" in out and "step / floor" in out
     with (tmp_path / "bench_contact.csv").open() as fh:
         contact = list(csv.DictReader(fh))
     assert [(r["backend"], r["grid"]) for r in contact] == [("fd", "6x6"), ("fe", "3x3")]
@@ -52,8 +57,8 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
 
 def test_row_lists_given_run_whatever_the_backend_and_unset_ones_follow_it(tmp_path, capsys):
     """--implicit-fe given runs its FE rows under --backend fd; unset, FE's contact and scene rows stay off."""
-    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "3",
-                 "--contact-fd", "", "--out", str(tmp_path)]) == 0
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "3", "--implicit-time",
+                 "0.01", "--contact-fd", "", "--out", str(tmp_path)]) == 0
     with (tmp_path / "bench_implicit.csv").open() as fh:
         assert [(r["backend"], r["grid"]) for r in csv.DictReader(fh)] == [("fe", "3x3")]
     assert not (tmp_path / "bench_contact.csv").exists() and not (tmp_path / "bench_scenes.csv").exists()
@@ -99,6 +104,7 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--contact-steps", "1.5"], "--contact-steps must be a positive integer, got '1.5'"),
     (["--implicit-fd", "4,y"], "--implicit-fd must be comma-separated integers"),
     (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
+    (["--implicit-time", "0"], "--implicit-time must be a positive number of seconds"),
     (["--scenes", "curtain", "--scene-fd", ""], "--scenes 'curtain' needs a grid"),
     (["--contact-fd", "z"], "--contact-fd must be comma-separated integers"),
     (["--solver", "mumps"], "solver must be one of"),
