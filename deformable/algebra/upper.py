@@ -174,6 +174,12 @@ class FreeUpper:
         second = np.where(on & (I == J) & (lu != mu)[None, :], first, -1)
         self._first, self._second = first, second
 
+    def holds(self, rows, cols) -> bool:
+        """Whether the pattern holds every free upper entry among (rows, cols) (global indices)."""
+        keys, _ = self._keys(np.asarray(rows, np.int64), np.asarray(cols, np.int64))
+        at = np.minimum(np.searchsorted(self.keys, keys), self.keys.size - 1)
+        return bool(np.all(self.keys[at] == keys))
+
     def grow(self, rows, cols) -> None:
         """Add the free upper entries among (rows, cols) (global indices) to the pattern, if any is new; the
         version changes only then."""
@@ -196,6 +202,17 @@ class FreeUpper:
         self.rescale(self.cm, self.cc)
 
     # -- the data -----------------------------------------------------------------------
+    def refill(self, M, C) -> None:
+        """New values of M and C on the patterns the block was built with (ValueError otherwise)."""
+        data = []
+        for name, B, (_, _) in (("M", M, self._M), ("C", C, self._C)):
+            B = canonical(B)
+            if B.nnz != (self._Mdata if name == "M" else self._Cdata).size:
+                raise ValueError(f"FreeUpper.refill: {name} has another pattern than the block was built with")
+            data.append(B.data)
+        self._Mdata, self._Cdata = data
+        self.rescale(self.cm, self.cc)
+
     def rescale(self, cm: float, cc: float) -> None:
         """New multipliers of M and C (a new time step)."""
         self.cm, self.cc = cm, cc
@@ -204,16 +221,20 @@ class FreeUpper:
             base[dst] += c * B[src]
         self.base = base
 
-    def assemble(self, hessian, extra=(), loose=()) -> SymmetricUpper:
+    def assemble(self, hessian, extra=(), loose=(), reserve=None) -> SymmetricUpper:
         """The free block's upper triangle of the whole matrix.
 
         ``hessian``: element upper triangles (E, nu) when the block was built on elements, else a matrix on the
         pattern it was built with; ``extra``: the fixed-pattern matrices, in order; ``loose``: symmetric sparse
-        (n, n) matrices of any pattern (the block grows to hold them).
+        (n, n) matrices of any pattern (the block grows to hold them); ``reserve``: a callable giving (rows, columns)
+        the loose matrices may soon need, added too where the pattern must grow anyway (it then grows rarely).
         """
-        for L in loose:
-            L = sp.coo_matrix(L)
-            self.grow(L.row, L.col)
+        loose = [sp.coo_matrix(L) for L in loose]
+        rows = np.concatenate([L.row for L in loose]).astype(np.int64) if loose else np.zeros(0, np.int64)
+        cols = np.concatenate([L.col for L in loose]).astype(np.int64) if loose else np.zeros(0, np.int64)
+        if rows.size and not self.holds(rows, cols):
+            more = reserve() if reserve is not None else (rows[:0], cols[:0])
+            self.grow(np.concatenate([rows, more[0]]), np.concatenate([cols, more[1]]))
         if len(extra) != len(self._extra):
             raise ValueError(f"FreeUpper was built with {len(self._extra)} extra matrices, got {len(extra)}")
         data = self.base.copy()
@@ -230,7 +251,6 @@ class FreeUpper:
                     raise ValueError("a matrix of the Newton system changed its sparsity pattern between calls")
             data[dst] += B.data[src]
         for L in loose:
-            L = sp.coo_matrix(L)
             keys, on = self._keys(L.row.astype(np.int64), L.col.astype(np.int64))
             np.add.at(data, self._slots(keys), L.data[on])
         return SymmetricUpper(self.indptr, self.indices, data, self.version, self.diagonal_slots)

@@ -229,9 +229,9 @@ class MeshObstaclePotential(TriangleBarrier):
             self.Y0, self.Y1 = self.mesh.obstacle_vertices(t0), self.mesh.obstacle_vertices(t1)
             self._last = self._starts = None
 
-    def lag(self, x, dt: float) -> None:
-        """At a step's start x (flat): raise kappa by IPC's adaptive rule (module docstring), then freeze the
-        friction (:meth:`TriangleBarrier.lag`)."""
+    def begin(self, x) -> None:
+        """At a step's start x (flat), before the friction is frozen (:meth:`TriangleBarrier.lag`): raise kappa by
+        IPC's adaptive rule (module docstring)."""
         V, collisions = self._start(x)
         closest = float(collisions.compute_minimum_distance(self.mesh.mesh, V)) if len(collisions) else math.inf
         floor = (ADAPTIVE_FRACTION * self.dhat) ** 2
@@ -241,7 +241,6 @@ class MeshObstaclePotential(TriangleBarrier):
             self.raised += 1
             self._last = None
         self._closest = closest
-        super().lag(x, dt)
 
     def carry(self, x, dx, held) -> np.ndarray:
         """A start x + dx (flat) in which the sheet near a moving obstacle rides with it over the step.

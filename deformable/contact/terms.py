@@ -114,6 +114,12 @@ class ContactTerms:
         patterns change with the pairs in contact (none without either)."""
         return [p.hessian(x) for p in self._loose]
 
+    def reserve(self) -> tuple[np.ndarray, np.ndarray]:
+        """The couplings the loose Hessians may have within the step (rows, columns of the (3 ndof, 3 ndof) matrix):
+        :meth:`deformable.contact.trianglebarrier.TriangleBarrier.reserve` of each part."""
+        parts = [p.reserve() for p in self._loose]
+        return tuple(np.concatenate([q[k] for q in parts]) if parts else np.zeros(0, np.int64) for k in (0, 1))
+
     def memory(self) -> dict:
         """What the contact carries from step to step besides the state (the mesh obstacles' adapted stiffness,
         :meth:`MeshObstaclePotential.memory`), for a checkpoint; {} when nothing."""
@@ -151,10 +157,9 @@ class ContactTerms:
         x1[held] = x[held] + dx[held]
         if not self._loose:
             return x1
-        if self.meshes is not None and self.meshes.t0 != self.meshes.t1 and min(
-                self.meshes.prescribed_step(x, x1 - x), 1.0 if self.sheet is None else self.sheet.max_step(x, x1 - x)
-        ) >= 1.0:
-            return x1  # the whole step with the obstacles' motion is collision-free
+        if min(1.0 if self.meshes is None else self.meshes.prescribed_step(x, x1 - x),
+               1.0 if self.sheet is None else self.sheet.max_step(x, x1 - x)) >= 1.0:
+            return x1  # the whole step, the held degrees of freedom and the obstacles moving with it, is collision-free
         moved = np.zeros_like(dx)
         moved[held] = dx[held]
         first = np.zeros(dx.size, bool)  # what moves first: the held degrees of freedom, and what obstacles carry

@@ -31,6 +31,16 @@ CPU against Tight-Inclusion CCD's 7.4 s (Wang et al. 2021; tolerance 1e-6, 10^4 
 0.1 of the latter's; capped at 10^6 iterations. Every Newton direction is clipped to it, so no iterate, tried or
 taken, passes one primitive through another or within dmin of it.
 
+The broad phase. Every pair the barrier or the collision-free step may need is found once a step and kept: the
+IPC Toolkit's candidates (``ipctk.Candidates``) of the vertices V_0 where the step first asks, each primitive's box
+grown by half the reach (dhat + dmin) / 2 plus a skin s. While no vertex is further than s from V_0, any pair
+closer than dhat + dmin (the barrier's) is a candidate, its distance at V_0 being less than dhat + dmin + 2 s, and
+so is any pair that comes within dmin along a straight motion whose both ends are within s of V_0 (the collision-free
+step: the ball of radius s is convex). So every barrier evaluation (the narrow phase over the candidates) and every
+collision-free step (CCD over the candidates) of the step's Newton iterations and line-search trials reuses it; a
+vertex beyond the skin builds it again there, with s = max(dhat + dmin, 1.25 times the largest motion asked about).
+It is built anew at every step's start (:meth:`TriangleBarrier.lag`), so a resumed run builds the same ones.
+
 Friction (IPC section 5: lagged, smoothed Coulomb friction; the analytic obstacles' is the same,
 :mod:`deformable.contact.potential`), with Coulomb's coefficient mu_f and the slip speed eps_v (m/s,
 ``Contact.slip``) below which it is smoothed. At the start of each implicit step (vertices V_n, step dt;
@@ -73,10 +83,14 @@ from .settings import REST_FRACTION
 __all__ = ["TriangleBarrier", "PARTS", "motion_stiffness", "CCD_ITERATIONS"]
 
 #: the parts of the time kept in :attr:`TriangleBarrier.seconds`
-PARTS = ("collisions", "barrier", "hessian", "ccd", "intersections")
+PARTS = ("collisions", "barrier", "hessian", "ccd")
 
 #: the additive CCD's iteration cap
 CCD_ITERATIONS = 1_000_000
+#: the conservative bound of the collision-free step holds a vertex's motion to this fraction of half its distance
+SAFE_FRACTION = 0.9
+#: the broad phase's tube around the motion it was built for, a fraction of the reach dhat + dmin (module docstring)
+TUBE_FRACTION = 0.25
 
 
 def motion_stiffness(mu: float, speed: float, dhat: float, dmin: float = 0.0) -> float:
@@ -91,6 +105,17 @@ def _number(owner: str, name: str, v, zero: bool) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not zero):
         raise ValueError(f"{owner}.{name} must be a {'non-negative' if zero else 'positive'} finite number, got {v!r}")
     return float(v)
+
+
+def _in_tube(V: np.ndarray, V0: np.ndarray, V1: np.ndarray, margin: float) -> bool:
+    """Whether every vertex of V is within ``margin`` of its segment from V0 to V1."""
+    if V.shape != V0.shape:
+        return False
+    D = V1 - V0
+    length = np.sum(D * D, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.clip(np.where(length > 0, np.sum((V - V0) * D, axis=1) / length, 0.0), 0.0, 1.0)
+    return float(np.max(np.sum((V - V0 - t[:, None] * D) ** 2, axis=1), initial=0.0)) <= margin**2
 
 
 class TriangleBarrier:
@@ -122,10 +147,12 @@ class TriangleBarrier:
     kappa : float
         The barrier stiffness (N/m^5).
     seconds : dict
-        Wall seconds spent so far in the IPC Toolkit's "collisions" (broad and narrow phase of the barrier's
-        pairs, and the friction's pairs frozen by :meth:`lag`), "barrier" (its value and gradient, and the
-        friction's), "hessian" (with the projections; the friction's too), "ccd" (the safe steps) and
-        "intersections" (the intersection test of :meth:`energy`).
+        Wall seconds spent so far in the IPC Toolkit's "collisions" (the broad phase, and the narrow phase of the
+        barrier's pairs and of the friction's pairs frozen by :meth:`lag`), "barrier" (its value and gradient, and
+        the friction's), "hessian" (with the projections; the friction's too) and "ccd" (the safe steps).
+    broad_phases : int
+        The broad phases built so far (:meth:`_candidates`): one a step, and another where an iterate or a step
+        leaves the skin of the last.
     """
 
     def __init__(self, model, mesh, distance: float, stiffness: float, margin: float = 0.8, thickness: float = 0.0,
@@ -145,6 +172,9 @@ class TriangleBarrier:
         self._lagged = None  # (tangential collisions, V_n, FrictionPotential(eps_v dt)) frozen by lag, or None
         self._starts = None  # (x, V, collisions) of the last step's start asked about (_start)
         self._zeros = np.zeros(3 * self.n)
+        self._kept = None  # (vertices, skin, ipctk.Candidates) of the broad phase at hand (:meth:`_candidates`)
+        self.broad_phases = 0
+        self.bounded = 0  # collision-free steps the conservative bound settled (no CCD)
         self.seconds = dict.fromkeys(PARTS, 0.0)
 
     def vertices(self, x) -> np.ndarray:
@@ -158,11 +188,57 @@ class TriangleBarrier:
     def _clock(self, name: str, t0: float) -> None:
         self.seconds[name] += time.perf_counter() - t0
 
+    def _candidates(self, V0, V1=None):
+        """The broad phase's candidate pairs, valid for the vertices V0 and, if given, the straight motion from V0 to
+        V1 (module docstring, "The broad phase"): the kept ones while both lie within the kept tube, else new ones
+        on the tube of the motion asked about."""
+        kept = self._kept
+        if kept is not None and _in_tube(V0, *kept[:3]) and (V1 is None or _in_tube(V1, *kept[:3])):
+            return kept[3]
+        t0 = time.perf_counter()
+        V1 = V0 if V1 is None else V1
+        margin = TUBE_FRACTION * (self.dhat + self.dmin)
+        candidates = ipctk.Candidates()
+        candidates.build(self.mesh.mesh, V0, V1, 0.5 * (self.dhat + self.dmin) + margin)
+        self._kept = (np.array(V0, order="F"), np.array(V1, order="F"), margin, candidates)
+        self.broad_phases += 1
+        self._clock("collisions", t0)
+        return candidates
+
+    def reserve(self) -> tuple[np.ndarray, np.ndarray]:
+        """The couplings (rows, columns of the coordinate-blocked (3 ndof, 3 ndof) matrix) the Hessian may have within
+        the step: those of every candidate pair of the broad phase at hand, between the sheet's degrees of freedom
+        (each vertex's by W). Newton's matrix grows its pattern by them where it must grow anyway, so that it grows
+        again only when the pairs in reach move on (:meth:`deformable.algebra.upper.FreeUpper.assemble`)."""
+        if self._kept is None:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        if len(self._kept) == 4:
+            candidates = self._kept[3]
+            mesh = self.mesh.mesh
+            E, F = np.asarray(mesh.edges), np.asarray(mesh.faces)
+            fv = np.array([(c.face_id, c.vertex_id) for c in candidates.fv_candidates], np.int64).reshape(-1, 2)
+            ee = np.array([(c.edge0_id, c.edge1_id) for c in candidates.ee_candidates], np.int64).reshape(-1, 2)
+            groups = np.concatenate([np.column_stack([F[fv[:, 0]], fv[:, 1]]),
+                                     np.column_stack([E[ee[:, 0]], E[ee[:, 1]]])]) if len(fv) + len(ee) else \
+                np.zeros((0, 4), np.int64)
+            a, b = np.repeat(groups, 4, axis=1).ravel(), np.tile(groups, (1, 4)).ravel()
+            keep = (a < self.P) & (b < self.P) & (a < b)  # the sheet's vertices: the obstacles' are held
+            ones = np.ones(int(np.count_nonzero(keep)))
+            S = sp.csr_matrix((ones, (a[keep], b[keep])), shape=(self.P, self.P))
+            W = self.mesh.points.W
+            D = (W.T @ (S + S.T) @ W).tocoo()  # the couplings of the pairs' degrees of freedom
+            r, c = D.row.astype(np.int64), D.col.astype(np.int64)
+            i, j = np.meshgrid(np.arange(3), np.arange(3), indexing="ij")
+            self._kept = (*self._kept, ((i.ravel()[:, None] * self.n + r).ravel(),
+                                        (j.ravel()[:, None] * self.n + c).ravel()))
+        return self._kept[4]
+
     def _collisions(self, V):
         t0 = time.perf_counter()
+        candidates = self._candidates(V)
         collisions = ipctk.NormalCollisions()
         collisions.use_area_weighting = True
-        collisions.build(self.mesh.mesh, V, self.dhat, self.dmin)
+        collisions.build(candidates, self.mesh.mesh, V, self.dhat, self.dmin)
         self._clock("collisions", t0)
         return collisions
 
@@ -195,6 +271,8 @@ class TriangleBarrier:
         """Freeze the friction at the step's start x (flat), step dt (s): each pair's normal force and tangent
         basis there, and the smoothing length eps_x = eps_v dt (module docstring). Nothing without friction."""
         self._lagged = None
+        self._kept = None  # a broad phase of its own for every step, built where the step first asks
+        self.begin(x)
         if self.friction == 0:
             return
         if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not (math.isfinite(dt) and dt > 0):
@@ -210,20 +288,20 @@ class TriangleBarrier:
         if len(tangential):
             self._lagged = (tangential, np.array(V, order="F"), ipctk.FrictionPotential(self.slip * dt))
 
+    def begin(self, x) -> None:
+        """A subclass's own work at a step's start x (flat), before the friction is frozen: nothing here."""
+
     def _slip(self, V) -> np.ndarray:
         """The vertices' displacements U = V - V_n since the lagged start (m), as the IPC Toolkit takes them."""
         return np.asfortranarray(V - self._lagged[1])
 
     # -- the potential ------------------------------------------------------------------
     def energy(self, x) -> float:
-        """S(x) + D(x) (J); +inf where two triangles that may touch cross or a pair is not more than the thickness
-        apart."""
+        """S(x) + D(x) (J); +inf where a pair is not more than the thickness apart. Two triangles cannot cross at an
+        x the solvers ask about: each is the end of a step cut short by :meth:`max_step` from a state that does not
+        cross (the intersection test, :meth:`deformable.contact.selfmesh.ContactMesh.intersects`, is the
+        measurements' and the run's start's)."""
         V, collisions = self._at(x)
-        t0 = time.perf_counter()
-        crossed = ipctk.has_intersections(self.mesh.mesh, V)
-        self._clock("intersections", t0)
-        if crossed:
-            return math.inf
         t0 = time.perf_counter()
         try:
             if len(collisions) and collisions.compute_minimum_distance(self.mesh.mesh, V) <= self.dmin * self.dmin:
@@ -271,18 +349,36 @@ class TriangleBarrier:
         return H
 
     # -- the collision-free step -------------------------------------------------------------
-    def free_fraction(self, V0, V1) -> float:
-        """The toolkit's collision-free fraction in [0, 1] of the straight motion from vertices V0 to V1 (no pair
-        within the thickness on the way)."""
+    def free_fraction(self, V0, V1, collisions=None) -> float:
+        """The collision-free fraction in [0, 1] of the straight motion from vertices V0 to V1 (no pair within the
+        thickness on the way): 1 where a conservative bound shows it (module docstring, "The collision-free
+        step"; ``collisions``: the barrier's at V0, when known), else the toolkit's CCD over the candidates."""
+        V0, V1 = np.asfortranarray(V0), np.asfortranarray(V1)
+        candidates = self._candidates(V0, V1)
         t0 = time.perf_counter()
-        alpha = float(ipctk.compute_collision_free_stepsize(self.mesh.mesh, np.asfortranarray(V0),
-                                                            np.asfortranarray(V1), self.dmin, None, self.ccd))
-        self._clock("ccd", t0)
-        return alpha
+        try:
+            if len(candidates) == 0:
+                return 1.0
+            motion = 2.0 * np.sqrt(np.sum((V1 - V0) ** 2, axis=1))
+            if collisions is not None:  # every vertex is at least min(dhat, closest - dmin) from every pair it is in
+                closest = math.sqrt(collisions.compute_minimum_distance(self.mesh.mesh, V0)) if len(collisions) \
+                    else math.inf
+                if float(np.max(motion)) <= SAFE_FRACTION * min(self.dhat, closest - self.dmin):
+                    self.bounded += 1
+                    return 1.0
+            safe = candidates.compute_per_vertex_safe_distances(self.mesh.mesh, V0, math.inf, self.dmin)
+            if np.all(motion <= SAFE_FRACTION * np.asarray(safe)):
+                self.bounded += 1
+                return 1.0
+            return float(candidates.compute_collision_free_stepsize(self.mesh.mesh, V0, V1, self.dmin, self.ccd))
+        finally:
+            self._clock("ccd", t0)
 
     def max_step(self, x, dx) -> float:
         """The fraction in (0, 1] of the step dx (flat) that x may take with no pair coming closer than the thickness
         on the way (``margin`` of the collision-free fraction when that is below 1)."""
         x = np.asarray(x, float)
-        alpha = self.free_fraction(self.vertices(x), self.vertices(x + np.asarray(dx, float)))
+        last = self._last
+        collisions = last[2] if last is not None and np.array_equal(last[0], x) else None
+        alpha = self.free_fraction(self.vertices(x), self.vertices(x + np.asarray(dx, float)), collisions)
         return 1.0 if alpha >= 1.0 else self.margin * alpha

@@ -93,7 +93,7 @@ class Directions:
                                      extra)
         elif (self._system.cm, self._system.cc) != (cm, cc):
             self._system.rescale(cm, cc)
-        A = self._system.assemble(H, extra, loose=p.loose_hessians(x))
+        A = self._system.assemble(H, extra, loose=p.loose_hessians(x), reserve=p.loose_reserve)
         if p.filter is not None:  # the diagonal without the filter's own Hessian, for its proposals
             self.stiffness = np.zeros(3 * p.n)
             self.stiffness[p.free] = A.diagonal() - p.filter.hessian_diagonal()[p.free]
@@ -104,6 +104,13 @@ class Directions:
         self.floor = float(1e3 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
         report.floor = max(report.floor, self.floor)
         return A
+
+    def retune(self) -> None:
+        """The problem's energy, M or C changed on the same patterns: the block takes the new M and C, and no
+        factorisation at hand is of the new matrix."""
+        if self._system is not None:
+            self._system.refill(self.problem.M, self.problem.C)
+        self.factored, self.here, self.made = None, False, None
 
     # -- factorisations -------------------------------------------------------------
     def factor_at(self, x, cm: float, cc: float, report, A=None) -> None:

@@ -22,6 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.terms import ContactTerms
+from ..errors import InputError
 
 __all__ = ["FlatEnergy", "flat", "unflat"]
 
@@ -71,14 +72,30 @@ class FlatEnergy:
     """
 
     def __init__(self, model):
+        self._take(model)
+        self.t = 0.0
+        self.factor = 1.0
+
+    def retune(self, model) -> None:
+        """Go on with ``model``: the same grid, held degrees of freedom and contact settings, other material values
+        and loads (InputError otherwise); its energy, mass, damping, loads and contact terms replace these."""
+        if model.ndof != self.n or not np.array_equal(self._fixed_of(model), self.fixed):
+            raise InputError("retune: the new model must have the grid and the held degrees of freedom of the old",
+                             field="model", value=type(model).__name__)
+        self._take(model)
+
+    @staticmethod
+    def _fixed_of(model) -> np.ndarray:
+        return np.concatenate([a * model.ndof + np.asarray(f, dtype=np.int64) for a, f in enumerate(model.fixed_dofs())])
+
+    def _take(self, model) -> None:
         model.scene.force_model.require_energy()
         self.model, self.n = model, model.ndof
         self.length = float(min(model.spacing))
         I3 = sp.identity(3, format="csr")
         self.M = sp.kron(I3, model.mass(), format="csr")
         self.C = sp.kron(I3, model.damping(), format="csr")
-        self.fixed = np.concatenate([a * self.n + np.asarray(f, dtype=np.int64)
-                                     for a, f in enumerate(model.fixed_dofs())])
+        self.fixed = self._fixed_of(model)
         self.free = np.ones(3 * self.n, bool)
         self.free[self.fixed] = False
         self.loads = model.loads
@@ -91,8 +108,6 @@ class FlatEnergy:
             self.contact = ContactTerms(model)
         self.filter = self.contact
         self.linear = bool(model.linear and self.loads.linear and self.contact is None)
-        self.t = 0.0
-        self.factor = 1.0
 
     def energy(self, x) -> float:
         """Elastic energy (13) plus the springs', moments' and the contact's (J); +inf where a contact point is not
@@ -138,6 +153,11 @@ class FlatEnergy:
         """The matrices of the Newton matrix whose pattern changes from one x to the next: the mesh obstacles' and
         the self-contact's Hessians (positive semi-definite), when the scene has them."""
         return [] if self.contact is None else self.contact.loose_hessians(x)
+
+    def loose_reserve(self) -> tuple[np.ndarray, np.ndarray]:
+        """The couplings the loose Hessians may have within the step, (rows, columns) (:meth:`ContactTerms.reserve`):
+        what Newton's matrix adds to its pattern where it must grow anyway."""
+        return (np.zeros(0, np.int64),) * 2 if self.contact is None else self.contact.reserve()
 
     def load(self, t: float) -> np.ndarray:
         """The applied loads at t (body, edge, point), flat (N)."""

@@ -17,7 +17,7 @@ distance; the rows before run without it): the
 cost of self-contact against obstacle contact alone (``self ratio``; the
 target is at most 2 at FD 64 x 64 nodes), and where its time goes: the
 self-contact's share of a step in its broad and narrow phases (collisions,
-Hessians, continuous collision detection, the intersection test).
+Hessians, continuous collision detection).
 """
 
 from __future__ import annotations
@@ -55,7 +55,6 @@ class ContactRow:
     self_barrier: float
     self_hessian: float
     self_ccd: float
-    self_intersections: float
     peak_mb: float
 
     @property

@@ -107,9 +107,13 @@ def test_without_a_coefficient_or_before_a_lag_the_barrier_is_bit_for_bit_the_fr
     assert len(collisions) > 0
     e = float(plain.barrier(collisions, plain.mesh.mesh, V))
     g = plain.WvT @ np.asarray(plain.barrier.gradient(collisions, plain.mesh.mesh, V)).ravel()
-    for S in (plain, zero, unlagged, far):
-        assert S.energy(x) == e
-        assert np.array_equal(S.gradient(x), g)
+    # the toolkit's barrier on its own broad phase: the same pairs, summed in another order (the potential's pairs
+    # come from its broad phase of the step, deformable.contact.trianglebarrier): equal to round-off
+    assert plain.energy(x) == pytest.approx(e, rel=1e-14)
+    np.testing.assert_allclose(plain.gradient(x), g, rtol=0, atol=1e-14 * np.max(np.abs(g)))
+    for S in (zero, unlagged, far):  # and the frictionless potential's own arrays, bit for bit
+        assert S.energy(x) == plain.energy(x)
+        assert np.array_equal(S.gradient(x), plain.gradient(x))
         assert np.array_equal(S.hessian(x).toarray(), plain.hessian(x).toarray())
     for name, value in (("friction", -0.1), ("friction", math.nan), ("slip", 0.0), ("slip", math.inf)):
         with pytest.raises(ValueError, match=f"SelfContactPotential.{name}"):
