@@ -134,6 +134,14 @@ class Implicit(Scheme):
                                  field="memory.contact", value=memory["contact"])
             self.flat.contact.recall(memory["contact"])
 
+    def retune(self, model) -> None:
+        """Go on with ``model`` (other material values and loads on the same grid and constraints): the potential
+        takes its energy, mass, damping, loads and contact (:meth:`FlatEnergy.retune`); Newton's method keeps its
+        matrix's pattern and the solver's analysis, and factorises the new matrix at its next solve."""
+        self.model = model
+        self.flat.retune(model)
+        self.newton.retune()
+
     # -- the step --------------------------------------------------------------------
     def acceleration(self, state) -> np.ndarray:
         """a = M^-1 (F - C v - grad E) at a state (flat), for starting Newmark."""

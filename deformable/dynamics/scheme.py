@@ -70,5 +70,10 @@ class Scheme(Registered, family="scheme"):
         """
         return {}
 
+    def retune(self, model) -> None:
+        """Go on with ``model``, the same grid and constraints with other material values and loads
+        (:meth:`deformable.TimeStepper.retune`), keeping what the solver built; this one builds anew."""
+        self.__init__(model, self.dt, **self._options)
+
     def restore(self, memory: dict) -> None:
         """Take up :meth:`memory` of another instance (the controller has checked its keys)."""

@@ -72,6 +72,7 @@ class SemiImplicit(Scheme):
 
     def __init__(self, model, dt: float, newton=None, solver: str = "auto"):
         self.model, self.dt, self.solver = model, dt, solver
+        self._options = dict(newton=newton, solver=solver)
         self.timings = {"assembly": 0.0, "factorisation": 0.0, "solve": 0.0}
         M, C = model.mass(), model.damping()
         self._B1 = (M / dt**2 + C / (2 * dt)).tocsr()  # multiplies R_t in (26)

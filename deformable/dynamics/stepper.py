@@ -159,6 +159,18 @@ class TimeStepper:
         self._trackers, self._pending = [], {}  # the current run's trackers; memories for the next run's
         self._scheme = kind(model, self.dt, newton=newton, solver=solver)
 
+    def retune(self, model) -> None:
+        """Go on with ``model`` from the state at hand: the same discretisation, grid and held degrees of freedom,
+        other material values (mu, gamma, eta, xi) and loads, as a slider of ``deformable view`` asks. The implicit
+        schemes keep their solver (the Newton matrix's pattern, the factorisation's analysis, the compiled kernels)
+        and refill its values; InputError when the model does not fit."""
+        if type(model) is not type(self.model) or model.ndof != self.model.ndof:
+            raise InputError("retune: the new model must be of the same backend and grid", field="model",
+                             value=type(model).__name__)
+        Scheme.lookup(self.scheme).check(model.scene.force_model)
+        self._scheme.retune(model)
+        self.model = model
+
     def _resolve_dt(self, dt) -> float:
         model = self.model
         if isinstance(dt, str) and dt == "auto":

@@ -158,6 +158,12 @@ class Newton:
         self._smooth = False  # the last solve ended on the step test without a fallback (module docstring)
         self._moved = 0.0  # the furthest a degree of freedom moved in the last iteration (m)
 
+    def retune(self) -> None:
+        """The problem's energy, mass or damping changed (same pattern): no factorisation at hand is of its matrix;
+        the matrix's pattern and the solver's analysis stay (:meth:`Directions.retune`)."""
+        self.directions.retune()
+        self._smooth = False
+
     def memory(self) -> dict:
         """A factorisation kept across solves (``lag``), for a checkpoint: {"lag": ...}
         (:meth:`Directions.memory`), or {} when none is kept; :meth:`recall` makes it again, so that a resumed
