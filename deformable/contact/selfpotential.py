@@ -79,3 +79,40 @@ class SelfContactPotential(TriangleBarrier):
     def vertices(self, x) -> np.ndarray:
         """The contact mesh's vertices (P, 3) (m) of a flat state x."""
         return self.mesh.vertices(np.asarray(x, float).reshape(3, self.n).T)
+
+    def carry(self, x, dx, held) -> np.ndarray:
+        """dx (flat) with the sheet in the way of its moving held part carried along: every vertex of a primitive that
+        a candidate pair of the motion (the broad phase of x to x + dx) puts against a primitive the held motion
+        moves, if it is its own degree of freedom's point (FD's nodes, FE's node values; :attr:`ContactPoints.owner`)
+        and free, takes the displacement of the moving primitive's fastest vertex. A drawn edge pushing the sheet
+        gathered beside it: where the held motion alone would press the sheet through itself, the sheet in front of
+        it moves with it, and Newton's method finds where it goes from there
+        (:meth:`deformable.contact.terms.ContactTerms.safe_start`)."""
+        x, dx = np.asarray(x, float), np.asarray(dx, float)
+        V0, V1 = self.vertices(x), self.vertices(x + dx)
+        U = V1 - V0
+        length = np.sqrt(np.sum(U * U, axis=1))
+        out = dx.copy()
+        if not np.any(length > 0):
+            return out
+        self._candidates(np.asfortranarray(V0), np.asfortranarray(V1))
+        groups, first = self.candidate_groups()
+        side = np.arange(4)[None, :] < first[:, None]  # the first primitive's vertices
+        speed = length[groups]
+        lead = np.where(side, speed, 0.0).max(axis=1), np.where(~side, speed, 0.0).max(axis=1)
+        owner = self.mesh.points.owner
+        blocked = np.zeros(3 * self.n, bool)
+        blocked[np.asarray(held, np.int64)] = True
+        for pushed, pusher in ((~side, 0), (side, 1)):  # the other primitive of a pair whose one primitive moves
+            rows = np.flatnonzero(lead[pusher] > 0)
+            if rows.size == 0:
+                continue
+            ids = groups[rows]
+            fastest = ids[np.arange(rows.size), np.argmax(np.where(~pushed[rows], speed[rows], -1.0), axis=1)]
+            riders, whose = ids[pushed[rows]], np.broadcast_to(fastest[:, None], ids.shape)[pushed[rows]]
+            still = (length[riders] == 0) & (owner[riders] >= 0)
+            for a in range(3):
+                dofs = a * self.n + owner[riders[still]]
+                free = ~blocked[dofs]
+                out[dofs[free]] = U[whose[still][free], a]
+        return out

@@ -144,12 +144,16 @@ class ContactTerms:
         stand at the step's end, and clear of itself.
 
         ``held`` (int array): the degrees of freedom a constraint prescribes, whose part of dx is their prescribed
-        motion over the step; they move all of it. Against the meshes and the sheet, that motion and the mesh
-        obstacles' own come first; the others then take one fraction of the rest of the way (all of it when the
-        whole step, the obstacles moving with it, is collision-free: a sheet carried by a moving obstacle moves
-        with it). When the prescribed motion alone would press the sheet through itself or an obstacle through
-        the sheet (or within the thickness), StepRejected: the time stepper retries a shorter step, over which the
-        sheet has less far to give way (:attr:`blocked` counts these).
+        motion over the step; they move all of it. The whole step first, everything moving together (the held
+        degrees of freedom, the obstacles and the rest along dx): taken where it is collision-free. Else, against
+        the meshes and the sheet, that prescribed motion and the mesh obstacles' own come first, with the sheet
+        within reach of a moving obstacle, or of its own moving held part, carried along
+        (:meth:`MeshObstaclePotential.carry`, :meth:`SelfContactPotential.carry`); the others then take one
+        fraction of the rest of the way. Measured on the curtain (FD 20 x 20 nodes, 2 s), whose drawn corner
+        meets the folds stacked beside it: with the held motion always first, 51 steps were rejected; with the
+        whole step first, 3; with the sheet carried, none. When even that would press the sheet through itself or
+        an obstacle through the sheet (or within the thickness), StepRejected: the time stepper retries a shorter
+        step, over which the sheet has less far to give way (:attr:`blocked` counts these).
         """
         dx = np.asarray(dx, float)
         x1 = x + dx if self.obstacles is None else self.obstacles.safe_start(x, dx)
@@ -173,9 +177,13 @@ class ContactTerms:
             first |= carried != 0
             moved = carried
         if self.sheet is not None and np.any(moved) and self.sheet.max_step(x, moved) < 1.0:
-            self.blocked += 1
-            raise StepRejected("the prescribed motion of the held degrees of freedom (or of a mesh obstacle) would "
-                               "press the sheet through itself (or within its thickness) within this step")
+            carried = self.sheet.carry(x, moved, held)  # the sheet pushed by its held part rides with it
+            if self.sheet.max_step(x, carried) < 1.0:
+                self.blocked += 1
+                raise StepRejected("the prescribed motion of the held degrees of freedom (or of a mesh obstacle) would "
+                                   "press the sheet through itself (or within its thickness) within this step")
+            first |= carried != 0
+            moved = carried
         xh = x + moved
         rest = x1 - x
         rest[first] = 0.0

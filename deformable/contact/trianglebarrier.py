@@ -205,6 +205,18 @@ class TriangleBarrier:
         self._clock("collisions", t0)
         return candidates
 
+    def candidate_groups(self) -> tuple[np.ndarray, np.ndarray]:
+        """The vertices of the broad phase's candidate pairs at hand: (G, 4) vertex indices, each pair's first
+        primitive's then its second's, and (G,) how many of the four are the first's (a face and a vertex: 3; two
+        edges: 2)."""
+        candidates = self._kept[3]
+        mesh = self.mesh.mesh
+        E, F = np.asarray(mesh.edges, np.int64), np.asarray(mesh.faces, np.int64)
+        fv = np.array([(c.face_id, c.vertex_id) for c in candidates.fv_candidates], np.int64).reshape(-1, 2)
+        ee = np.array([(c.edge0_id, c.edge1_id) for c in candidates.ee_candidates], np.int64).reshape(-1, 2)
+        groups = np.concatenate([np.column_stack([F[fv[:, 0]], fv[:, 1]]), np.column_stack([E[ee[:, 0]], E[ee[:, 1]]])])
+        return groups, np.concatenate([np.full(len(fv), 3), np.full(len(ee), 2)])
+
     def reserve(self) -> tuple[np.ndarray, np.ndarray]:
         """The couplings (rows, columns of the coordinate-blocked (3 ndof, 3 ndof) matrix) the Hessian may have within
         the step: those of every candidate pair of the broad phase at hand, between the sheet's degrees of freedom
@@ -213,14 +225,7 @@ class TriangleBarrier:
         if self._kept is None:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         if len(self._kept) == 4:
-            candidates = self._kept[3]
-            mesh = self.mesh.mesh
-            E, F = np.asarray(mesh.edges), np.asarray(mesh.faces)
-            fv = np.array([(c.face_id, c.vertex_id) for c in candidates.fv_candidates], np.int64).reshape(-1, 2)
-            ee = np.array([(c.edge0_id, c.edge1_id) for c in candidates.ee_candidates], np.int64).reshape(-1, 2)
-            groups = np.concatenate([np.column_stack([F[fv[:, 0]], fv[:, 1]]),
-                                     np.column_stack([E[ee[:, 0]], E[ee[:, 1]]])]) if len(fv) + len(ee) else \
-                np.zeros((0, 4), np.int64)
+            groups, _ = self.candidate_groups()
             a, b = np.repeat(groups, 4, axis=1).ravel(), np.tile(groups, (1, 4)).ravel()
             keep = (a < self.P) & (b < self.P) & (a < b)  # the sheet's vertices: the obstacles' are held
             ones = np.ones(int(np.count_nonzero(keep)))

@@ -79,10 +79,12 @@ def test_the_curtain_has_self_contact_under_the_variational_model_only():
     assert scenes.build(off).contact.self_distance is None
 
 
-def test_a_prescribed_motion_through_the_sheet_rejects_the_step_and_a_free_one_starts_clear():
-    """The top leg's nodes held and prescribed to move down through the lower leg: the step's start refuses it
-    (StepRejected, counted as blocked), so the stepper retries shorter; a prescribed motion away from the lower leg
-    is taken whole, the free rest of the way clipped to keep the sheet clear of itself."""
+def test_a_prescribed_motion_through_the_sheet_pushes_it_along_or_rejects_the_step_and_a_free_one_starts_clear():
+    """The top leg's nodes held and prescribed to move down through the lower leg: the step's start carries the free
+    lower leg in its way along with it (the start clear of itself, the held nodes at their targets); with the lower
+    leg held too, nothing can give way and the start refuses it (StepRejected, counted as blocked), so the stepper
+    retries shorter; a prescribed motion away from the lower leg is taken whole, the free rest of the way clipped
+    to keep the sheet clear of itself."""
     from deformable.contact.terms import ContactTerms
     from deformable.errors import StepRejected
 
@@ -91,16 +93,21 @@ def test_a_prescribed_motion_through_the_sheet_rejects_the_step_and_a_free_one_s
     X = model.initial_state()
     x, n = X.T.ravel(), model.ndof
     held = 2 * n + np.flatnonzero(X[:, 2] > GAP - 1e-9)  # the upper leg's z coordinates
+    lower = 2 * n + np.flatnonzero(X[:, 2] < 1e-9)
     dx = np.zeros_like(x)
     dx[held] = -2 * GAP  # through the lower leg and beyond
+    start = terms.safe_start(x, dx, held)
+    np.testing.assert_allclose(start[held], x[held] - 2 * GAP)
+    assert np.min(start[lower] - x[lower]) == pytest.approx(-2 * GAP)  # the lower leg below it pushed along
+    mesh = terms.sheet.mesh
+    assert not mesh.intersects(start.reshape(3, n).T) and terms.blocked == 0
+    pinned = np.concatenate([held, lower])
     with pytest.raises(StepRejected, match="prescribed motion"):
-        terms.safe_start(x, dx, held)
+        terms.safe_start(x, dx, pinned)
     assert terms.blocked == 1
-    lower = 2 * n + np.flatnonzero(X[:, 2] < 1e-9)
     dx[held] = 0.01  # up, away
     dx[lower] = 2 * GAP  # the lower leg's own (free) motion up through the upper one
     start = terms.safe_start(x, dx, held)
     np.testing.assert_allclose(start[held], x[held] + 0.01)
     assert 0 < np.max(start[lower] - x[lower]) < 2 * GAP
-    mesh = terms.sheet.mesh
     assert not mesh.intersects(start.reshape(3, n).T) and mesh.self_distance(start.reshape(3, n).T, GAP) > 2e-3
