@@ -28,7 +28,7 @@ import scipy.sparse as sp
 
 from .points import contact_points
 
-__all__ = ["ContactMesh", "grid_triangles", "vertex_map"]
+__all__ = ["ContactMesh", "grid_triangles", "vertex_map", "point_triangle_distances", "segment_distances"]
 
 
 def grid_triangles(shape: tuple[int, int]) -> np.ndarray:
@@ -41,6 +41,61 @@ def grid_triangles(shape: tuple[int, int]) -> np.ndarray:
     a, b = (i * n + j).ravel(), ((i + 1) * n + j).ravel()
     c, d = ((i + 1) * n + j + 1).ravel(), (i * n + j + 1).ravel()
     return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)]).astype(np.int32)
+
+
+def _ids(candidates: list, fields: tuple[str, str]) -> np.ndarray:
+    """The two primitive indices of each of the IPC Toolkit's candidates, (C, 2)."""
+    a, b = fields
+    return np.fromiter((i for c in candidates for i in (getattr(c, a), getattr(c, b))), np.int64,
+                       count=2 * len(candidates)).reshape(-1, 2)
+
+
+#: candidates whose distances are computed at once (a chunk's temporaries stay near 100 MB)
+CHUNK = 500_000
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("ij,ij->i", a, b)
+
+
+def point_triangle_distances(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """The distances (N,) from points p to triangles (a, b, c), all (N, 3): the closest point by the triangle's
+    Voronoi regions (Ericson 2005, "Real-Time Collision Detection", 5.1.5), for all at once."""
+    ab, ac = b - a, c - a
+    d1, d2 = _dot(ab, p - a), _dot(ac, p - a)
+    d3, d4 = _dot(ab, p - b), _dot(ac, p - b)
+    d5, d6 = _dot(ab, p - c), _dot(ac, p - c)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        total = va + vb + vc
+        q = a + ab * (vb / total)[:, None] + ac * (vc / total)[:, None]  # inside; the regions below in reverse order
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        q = np.where(((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0))[:, None], b + (c - b) * t[:, None], q)
+        q = np.where(((vb <= 0) & (d2 >= 0) & (d6 <= 0))[:, None], a + ac * (d2 / (d2 - d6))[:, None], q)
+        q = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, q)
+        q = np.where(((vc <= 0) & (d1 >= 0) & (d3 <= 0))[:, None], a + ab * (d1 / (d1 - d3))[:, None], q)
+        q = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, q)
+        q = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, q)
+    return np.sqrt(np.sum((p - q) ** 2, axis=1))
+
+
+def segment_distances(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+    """The distances (N,) between segments p0 p1 and q0 q1, all (N, 3): the closest points by clamped parameters
+    (Ericson 2005, "Real-Time Collision Detection", 5.1.9), for all at once."""
+    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
+    a, e, f = _dot(d1, d1), _dot(d2, d2), _dot(d2, r)
+    c, b = _dot(d1, r), _dot(d1, d2)
+    tiny = 1e-300
+    denom = a * e - b * b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(denom > 1e-14 * np.maximum(a * e, tiny), np.clip((b * f - c * e) / denom, 0.0, 1.0), 0.0)
+        t = np.where(e > tiny, (b * s + f) / np.maximum(e, tiny), 0.0)
+        s = np.where(t < 0, np.where(a > tiny, np.clip(-c / np.maximum(a, tiny), 0.0, 1.0), 0.0), s)
+        s = np.where(t > 1, np.where(a > tiny, np.clip((b - c) / np.maximum(a, tiny), 0.0, 1.0), 0.0), s)
+        t = np.clip(t, 0.0, 1.0)
+        point = e <= tiny  # q of no length: the closest point of p0 p1 to q0
+        s = np.where(point, np.where(a > tiny, np.clip(-c / np.maximum(a, tiny), 0.0, 1.0), 0.0), s)
+    return np.sqrt(np.sum((p0 + d1 * s[:, None] - q0 - d2 * t[:, None]) ** 2, axis=1))
 
 
 def vertex_map(W) -> tuple[sp.csr_matrix, sp.csr_matrix]:
@@ -116,18 +171,29 @@ class ContactMesh:
     def _close_at_rest(self) -> frozenset:
         """The vertex pairs across every pair of primitives (point-triangle, edge-edge) closer than the activation
         distance in the rest mesh: each pair of the two primitives' vertices, so that no collision between them
-        is left, whichever feature is closest."""
+        is left, whichever feature is closest. The IPC Toolkit's broad phase finds the candidates; their distances
+        are computed all at once (:func:`point_triangle_distances`, :func:`segment_distances`; one by one in
+        Python they took 47 s at FD 128 x 128 nodes and more than 17 minutes at 256 x 256)."""
         reach = self.thickness + self.distance
         candidates = ipctk.Candidates()
-        candidates.build(self.mesh, self.rest, reach)
-        pairs = set()
-        for kind in (candidates.fv_candidates, candidates.ee_candidates):
-            for c in kind:
-                squared = float(c.compute_distance(self.rest, self.edges, self.faces))  # the IPC Toolkit's d^2
-                if math.sqrt(max(0.0, squared)) < reach:
-                    ids = [int(v) for v in c.vertex_ids(self.edges, self.faces)]
-                    pairs.update((min(u, v), max(u, v)) for u in ids for v in ids if u != v)
-        return frozenset(pairs)
+        candidates.build(self.mesh, self.rest, 0.5 * reach)  # boxes grown by half the reach: every pair within it
+        V, E, F = self.rest, self.edges.astype(np.int64), self.faces.astype(np.int64)
+        fv, ee = (_ids(getattr(candidates, name), fields) for name, fields in
+                  (("fv_candidates", ("face_id", "vertex_id")), ("ee_candidates", ("edge0_id", "edge1_id"))))
+        keys = [np.zeros(0, np.int64)]
+        for k in range(0, max(len(fv), len(ee)), CHUNK):  # chunks: millions of candidates at FD 256 x 256 nodes
+            tri, pts = F[fv[k:k + CHUNK, 0]], fv[k:k + CHUNK, 1]
+            e0, e1 = E[ee[k:k + CHUNK, 0]], E[ee[k:k + CHUNK, 1]]
+            near = [np.column_stack([tri, pts])[point_triangle_distances(V[pts], *(V[tri[:, i]] for i in range(3)))
+                                                < reach],
+                    np.column_stack([e0, e1])[segment_distances(V[e0[:, 0]], V[e0[:, 1]], V[e1[:, 0]], V[e1[:, 1]])
+                                              < reach]]
+            groups = np.concatenate(near)
+            a, b = np.repeat(groups, 4, axis=1).ravel(), np.tile(groups, (1, 4)).ravel()
+            keep = a != b
+            keys.append(np.unique(np.minimum(a[keep], b[keep]) * V.shape[0] + np.maximum(a[keep], b[keep])))
+        keys = np.unique(np.concatenate(keys))
+        return frozenset(zip((keys // V.shape[0]).tolist(), (keys % V.shape[0]).tolist()))
 
     def intersects(self, X) -> bool:
         """Whether two triangles of state X (ndof, 3) that share no vertex cross each other."""

@@ -3,6 +3,7 @@ self-distance and the intersection test, against configurations whose answers ar
 
 import math
 
+import ipctk
 import numpy as np
 import pytest
 
@@ -98,3 +99,38 @@ def test_the_monitor_records_the_smallest_self_distance_of_a_run():
     dm.TimeStepper(model, dt=0.01).run(model.initial_state(), t_end=0.1, trackers=[monitor])
     assert len(monitor.times) == len(monitor.distances) >= 6 and monitor.times[0] == 0.0
     assert monitor.crossed == [] and monitor.smallest == math.inf  # a sheet swinging down does not fold
+
+
+def test_the_distances_at_once_are_the_ipc_toolkits_one_by_one(rng):
+    """point_triangle_distances and segment_distances against the IPC Toolkit's scalar distances, on random
+    primitives and on degenerate ones (a segment of no length, parallel segments, points in every Voronoi region)."""
+    from deformable.contact.selfmesh import point_triangle_distances, segment_distances
+
+    P = rng.normal(size=(600, 12))
+    P[:40, 9:] = P[:40, 6:9]  # a segment of no length
+    P[40:80, 6:9], P[40:80, 9:] = P[40:80, :3] + 0.3, P[40:80, 3:6] + 0.3  # parallel segments
+    pt = point_triangle_distances(P[:, :3], P[:, 3:6], P[:, 6:9], P[:, 9:])
+    ee = segment_distances(P[:, :3], P[:, 3:6], P[:, 6:9], P[:, 9:])
+    for k in range(len(P)):
+        a, b, c, d = P[k, :3], P[k, 3:6], P[k, 6:9], P[k, 9:]
+        assert pt[k] == pytest.approx(math.sqrt(ipctk.point_triangle_distance(a, b, c, d)), rel=0, abs=1e-12)
+        # a segment of no length: the distance to a point (the toolkit's edge-edge distance assumes two edges)
+        ref = ipctk.point_edge_distance(c, a, b) if k < 40 else ipctk.edge_edge_distance(a, b, c, d)
+        assert ee[k] == pytest.approx(math.sqrt(ref), rel=0, abs=1e-12)
+
+
+def test_the_pairs_close_at_rest_are_those_a_pair_by_pair_search_finds():
+    """The excluded vertex pairs, found with the distances at once, are those of the IPC Toolkit's candidates measured
+    one by one (the former way), on a grid whose spacing is below the reach (thousands of pairs)."""
+    model = FDModel(dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(24, 24)), dm.Material(), force_model="variational"))
+    mesh = ContactMesh(model, distance=0.05, thickness=1e-3)
+    plain = ipctk.CollisionMesh(mesh.rest, mesh.edges, mesh.faces)  # no filter yet
+    candidates = ipctk.Candidates()
+    candidates.build(plain, mesh.rest, 0.051)
+    pairs = set()
+    for kind in (candidates.fv_candidates, candidates.ee_candidates):
+        for c in kind:
+            if math.sqrt(max(0.0, float(c.compute_distance(mesh.rest, mesh.edges, mesh.faces)))) < 0.051:
+                ids = [int(v) for v in c.vertex_ids(mesh.edges, mesh.faces)]
+                pairs.update((min(u, v), max(u, v)) for u in ids for v in ids if u != v)
+    assert len(pairs) > 1000 and mesh.excluded == frozenset(pairs)
