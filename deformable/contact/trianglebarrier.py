@@ -32,14 +32,25 @@ CPU against Tight-Inclusion CCD's 7.4 s (Wang et al. 2021; tolerance 1e-6, 10^4 
 taken, passes one primitive through another or within dmin of it.
 
 The broad phase. Every pair the barrier or the collision-free step may need is found once a step and kept: the
-IPC Toolkit's candidates (``ipctk.Candidates``) of the vertices V_0 where the step first asks, each primitive's box
-grown by half the reach (dhat + dmin) / 2 plus a skin s. While no vertex is further than s from V_0, any pair
-closer than dhat + dmin (the barrier's) is a candidate, its distance at V_0 being less than dhat + dmin + 2 s, and
-so is any pair that comes within dmin along a straight motion whose both ends are within s of V_0 (the collision-free
-step: the ball of radius s is convex). So every barrier evaluation (the narrow phase over the candidates) and every
-collision-free step (CCD over the candidates) of the step's Newton iterations and line-search trials reuses it; a
-vertex beyond the skin builds it again there, with s = max(dhat + dmin, 1.25 times the largest motion asked about).
-It is built anew at every step's start (:meth:`TriangleBarrier.lag`), so a resumed run builds the same ones.
+IPC Toolkit's candidates (``ipctk.Candidates``) of the straight motion from V_0 to V_1 that the step first asks
+about (the whole step's start: :meth:`deformable.contact.terms.ContactTerms.safe_start`), each primitive's box swept
+along its vertices' segments and grown by half the reach (dhat + dmin) / 2 plus a margin m = (dhat + dmin) / 4.
+While every vertex stays within m of its segment (the *tube*), any pair closer than dhat + dmin (the barrier's) is a
+candidate: each of its primitives lies within m of a primitive inside its swept box, so the boxes' gap is below
+dhat + dmin + 2 m. So is any pair that comes within dmin along a straight motion whose both ends lie in the tube
+(the collision-free step: the tube is convex). So every barrier evaluation (the narrow phase over the candidates)
+and every collision-free step (CCD over the candidates) of the step's Newton iterations and line-search trials
+reuses it; a state outside the tube builds it again on the motion asked about then. It is built anew at every
+step's start (:meth:`TriangleBarrier.lag`), so a resumed run builds the same ones. Measured on the curtain (FD 64
+x 64 nodes, its first second): 35 000 candidates, 1.03 broad phases a step; a tube of the motion's plain ball
+(radius 1.25 times the motion, at least dhat + dmin) held 148 000 and made each step 50 % dearer.
+
+The collision-free step. Before any CCD a conservative bound (:meth:`TriangleBarrier.free_fraction`): a pair's
+distance falls along a straight motion by at most the largest relative motion of its vertices, so where every
+vertex moves less than half its distance to the nearest pair it is in (beyond dmin; at an iterate whose barrier
+pairs are known, where every vertex moves less than half of min(dhat, the closest pair's distance - dmin)) the
+whole step is collision-free. On the FD 20 curtain the CCD returned a full step in 98.8 % of its calls; the bound
+settles most of those (the bench's self-contact rows count them).
 
 Friction (IPC section 5: lagged, smoothed Coulomb friction; the analytic obstacles' is the same,
 :mod:`deformable.contact.potential`), with Coulomb's coefficient mu_f and the slip speed eps_v (m/s,
@@ -152,7 +163,9 @@ class TriangleBarrier:
         the friction's), "hessian" (with the projections; the friction's too) and "ccd" (the safe steps).
     broad_phases : int
         The broad phases built so far (:meth:`_candidates`): one a step, and another where an iterate or a step
-        leaves the skin of the last.
+        leaves the tube of the last.
+    bounded, ccd_calls : int
+        The collision-free steps settled by the conservative bound, and by CCD.
     """
 
     def __init__(self, model, mesh, distance: float, stiffness: float, margin: float = 0.8, thickness: float = 0.0,
@@ -172,9 +185,10 @@ class TriangleBarrier:
         self._lagged = None  # (tangential collisions, V_n, FrictionPotential(eps_v dt)) frozen by lag, or None
         self._starts = None  # (x, V, collisions) of the last step's start asked about (_start)
         self._zeros = np.zeros(3 * self.n)
-        self._kept = None  # (vertices, skin, ipctk.Candidates) of the broad phase at hand (:meth:`_candidates`)
+        self._kept = None  # (V_0, V_1, margin, ipctk.Candidates) of the broad phase at hand (:meth:`_candidates`)
         self.broad_phases = 0
         self.bounded = 0  # collision-free steps the conservative bound settled (no CCD)
+        self.ccd_calls = 0  # collision-free steps the CCD settled
         self.seconds = dict.fromkeys(PARTS, 0.0)
 
     def vertices(self, x) -> np.ndarray:
@@ -375,6 +389,7 @@ class TriangleBarrier:
             if np.all(motion <= SAFE_FRACTION * np.asarray(safe)):
                 self.bounded += 1
                 return 1.0
+            self.ccd_calls += 1
             return float(candidates.compute_collision_free_stepsize(self.mesh.mesh, V0, V1, self.dmin, self.ccd))
         finally:
             self._clock("ccd", t0)

@@ -1,16 +1,20 @@
-"""``deformable view`` (validation/viewer.py): a slider changes the running simulation; the window under Xvfb."""
+"""``deformable view`` (validation/viewer.py): a slider retunes the running simulation; the simulation's frames,
+in turn or in a thread of its own; the readout's test at most every READOUT_EVERY; the window under Xvfb."""
 
 import os
 import shutil
 import subprocess
+import threading
 import time
 
 import numpy as np
 import pytest
 
+import deformable as dm
 from deformable import scenes
+from validation import viewer
 from validation.commands import main
-from validation.viewer import Session
+from validation.viewer import Producer, Session
 
 
 def _session(**fields):
@@ -30,6 +34,116 @@ def test_a_changed_parameter_changes_the_motion_from_the_same_state():
     assert np.max(np.abs(a.points() - b.points())) > 1e-3  # m: the stiffer sheet moves otherwise
     b.reset()
     assert b.state.t == 0.0 and b.value("xi") == a.value("xi")
+
+
+def test_a_slider_retunes_the_running_stepper_and_keeps_its_solver():
+    """The same stepper and Newton solver take the new material (TimeStepper.retune) and go on from the same state,
+    moving as a stepper built for the new material would."""
+    s = _session()
+    s.advance(0.2)
+    stepper, newton, model = s.stepper, s.stepper.newton, s.model
+    state = s.state
+    s.set(eta=4 * s.value("eta"))
+    assert s.stepper is stepper and s.stepper.newton is newton and newton is not None
+    assert s.model is not model and stepper.model is s.model
+    assert np.all(s.model.scene.material.eta == 4 * np.asarray(model.scene.material.eta))
+    assert s.state is state
+    fresh = dm.TimeStepper(s.model, stepper.dt)
+    fresh.start(stepper.reference)
+    b = state
+    for _ in range(20):
+        b = fresh.step(b)
+    s.advance(0.1)
+    assert s.state.t == pytest.approx(b.t)
+    assert np.max(np.abs(s.state.X - b.X)) <= 20 * 1e-2 * stepper.dt  # Newton's tolerance, vtol dt a step
+    assert np.max(np.abs(s.state.X - state.X)) > 1e-3  # m: it moved
+
+
+def test_the_readout_reuses_its_compatibility_test_and_says_when_it_was_taken(monkeypatch):
+    calls = []
+    monkeypatch.setattr(viewer, "check_compatibility", lambda *a: calls.append(1) or _compatibility(*a))
+    s = _session()
+    first = s.readout(every=0.2)
+    s.advance(0.1)
+    reused = s.readout(every=0.2)  # 0.1 s later: the test at t = 0 shown as such
+    assert len(calls) == 1 and reused.tested_at == 0.0 and reused.t == pytest.approx(0.1)
+    assert (reused.ratio, reused.cosine, reused.residual) == (first.ratio, first.cosine, first.residual)
+    assert "compatibility (eq. 10) at t = 0.000 s:" in reused.text() and reused.kinetic > first.kinetic
+    s.advance(0.15)
+    fresh = s.readout(every=0.2)  # 0.25 s on: taken anew, on this state
+    assert len(calls) == 2 and fresh.tested_at == fresh.t and "compatibility (eq. 10):" in fresh.text()
+    assert s.readout() == fresh and len(calls) == 3  # every = 0: always anew (the same numbers, the same state)
+    s.reset()
+    assert s.readout(every=0.2).tested_at == 0.0 and len(calls) == 4  # not a test from before the reset
+
+
+def _compatibility(*args):
+    from deformable.geometry import check_compatibility
+
+    return check_compatibility(*args)
+
+
+def test_frames_in_turn_sit_at_the_frame_times_and_take_commands_at_once(monkeypatch):
+    calls = []
+    monkeypatch.setattr(viewer, "check_compatibility", lambda *a: calls.append(1) or _compatibility(*a))
+    p = Producer(_session(), fps=30, readout_every=0.2)
+    stepper = p.session.stepper
+    for k in range(1, 31):
+        assert p.produce()
+        assert p.latest.serial == k and p.latest.readout.t == pytest.approx(k / 30, abs=5e-3)  # 5 ms steps
+    assert p.latest.readout.t == pytest.approx(1.0)  # 30 frames: a simulated second (not 30 x 7 steps)
+    assert 5 <= len(calls) <= 6  # t = 0 and then every 0.2 s or so of the 1 s: not 31
+    gamma = p.session.value("gamma")
+    p.submit("set", "gamma", 30 * gamma)  # no thread: applied at once, and a frame says so
+    assert p.latest.values["gamma"] == 30 * gamma and p.session.stepper is stepper
+    p.submit("pause", True)
+    assert not p.produce() and p.session.state.t == pytest.approx(1.0)
+    p.submit("pause", False)
+    p.submit("reset")
+    assert p.latest.readout.t == 0.0 and p.latest.values["gamma"] == gamma
+    assert p.produce() and p.latest.readout.t == pytest.approx(1 / 30, abs=5e-3)
+    again = Producer(_session(), fps=30)  # deterministic: the same frames
+    for _ in range(31):
+        again.produce()
+    other = Producer(_session(), fps=30)
+    for _ in range(31):
+        other.produce()
+    assert np.array_equal(again.latest.points, other.latest.points) and again.latest.readout == other.latest.readout
+
+
+def _until(condition, timeout=30.0):
+    start = time.perf_counter()
+    while not condition():
+        assert time.perf_counter() - start < timeout, "timed out"
+        time.sleep(0.01)
+
+
+def test_the_producer_thread_takes_commands_between_steps_paces_itself_and_stops():
+    p = Producer(_session(), fps=30)
+    stepper, gamma = p.session.stepper, p.session.value("gamma")
+    before = threading.active_count()
+    start = time.perf_counter()
+    p.start()
+    try:
+        assert p.running and threading.active_count() == before + 1
+        _until(lambda: p.latest.serial >= 3)
+        p.submit("set", "gamma", 30 * gamma)
+        _until(lambda: p.latest.values["gamma"] == 30 * gamma)
+        assert p.session.stepper is stepper  # retuned in the thread, between two steps
+        assert p.latest.readout.t <= time.perf_counter() - start + 0.2  # s: never ahead of the clock (a frame or two)
+        p.submit("pause", True)
+        _until(lambda: p.paused)
+        t = p.session.state.t
+        time.sleep(0.3)
+        assert p.session.state.t == t  # no step while paused
+        p.submit("pause", False)
+        p.submit("reset")
+        _until(lambda: p.latest.values["gamma"] == gamma)
+        assert p.session.stepper is not stepper  # a reset builds anew
+        _until(lambda: p.latest.readout.t > 0)
+    finally:
+        p.stop(timeout=30)
+    assert not p.running and p.error is None and threading.active_count() == before
 
 
 def test_the_readout_states_energy_stretch_and_the_compatibility_test():
@@ -60,8 +174,14 @@ def test_bad_input_is_one_line(argv, message, capsys):
 
 
 @pytest.fixture
-def display():
-    """A virtual X display (Xvfb; .ci/run installs it), for a real window."""
+def display(monkeypatch):
+    """A virtual X display (Xvfb; .ci/run installs it), for a real window: an X window, also after an off-screen
+    test in this process (deformable.io.render.offscreen_pyvista sets pyvista.OFF_SCREEN and, without a display,
+    VTK's default window to EGL's, which has no X events)."""
+    import pyvista
+
+    monkeypatch.delenv("VTK_DEFAULT_OPENGL_WINDOW", raising=False)
+    monkeypatch.setattr(pyvista, "OFF_SCREEN", False)
     exe = shutil.which("Xvfb")
     assert exe, "this test needs Xvfb for a real window (Debian: apt-get install xvfb; .ci/run installs it)"
     number = 90 + os.getpid() % 100
@@ -83,6 +203,8 @@ def display():
 
 
 def test_a_real_window_shows_a_moved_slider_changing_the_motion(display, tmp_path):
+    """Frames in turn (``--frames``) in a real window. The damping moves the sheet visibly within 0.4 s; xi x 30
+    does not (0.1 grey levels on the sheet: the readout's digits alone made the difference)."""
     from matplotlib.image import imread
 
     from validation.viewer import Window
@@ -94,12 +216,52 @@ def test_a_real_window_shows_a_moved_slider_changing_the_motion(display, tmp_pat
         window.plotter.show(auto_close=False, interactive=False)
         for k in range(12):
             if moved and k == 3:
-                window.move("xi", 30 * window.session.value("xi"))  # the widget's value and its end event
+                window.move("gamma", 30 * window.session.value("gamma"))  # the widget's value and its end event
             window.frame()
-        assert (window.session.value("xi") == pytest.approx(30 * scenes.config("hanging").xi, rel=1e-9)) == moved
+        assert (window.session.value("gamma") == pytest.approx(30 * scenes.config("hanging").gamma, rel=1e-9)) == moved
         path = tmp_path / f"{moved}.png"
         window.plotter.screenshot(str(path))
         window.plotter.close()
         shots[moved] = 255 * imread(path).astype(float)
     assert shots[False].shape == shots[True].shape
     assert np.mean(np.abs(shots[True] - shots[False])) > 0.5  # grey levels: the sheet is drawn elsewhere
+
+
+def test_the_window_draws_while_the_simulation_runs_in_its_own_thread(display):
+    """The interactive window: the simulation in its thread, a slider moved (the same stepper and solver take it,
+    the slider's title shows it once drawn), then q, as a user would: the window closes and the thread stops."""
+    from validation.viewer import Window
+
+    window = Window(_session(), offscreen=False, fps=30)
+    assert type(window.plotter.render_window).__name__ == "vtkXOpenGLRenderWindow"  # X events: a real window
+    stepper, newton = window.session.stepper, window.session.stepper.newton
+    gamma = 30 * window.session.value("gamma")
+    title = window.sliders["gamma"][1].GetRepresentation()
+    before, seen, start = threading.active_count(), [], time.perf_counter()
+    iren = window.plotter.iren
+
+    def user(*_):  # every 20 ms, in the window's loop
+        if not seen and window.producer.latest.serial >= 5:
+            window.move("gamma", gamma)
+            seen.append("moved")
+        elif seen == ["moved"] and f"= {gamma:.3g}" in title.GetTitleText():
+            seen.append("shown")
+            iren.interactor.SetKeySym("q")
+            iren.interactor.SetKeyCode("q")
+            iren.interactor.CharEvent()  # q closes the window (VTK's interactor style)
+        if time.perf_counter() - start > 60:  # a safety net: never a hanging test
+            iren.terminate_app()
+
+    iren.add_observer("TimerEvent", user)
+    iren.create_timer(20)
+    window.run()
+    assert seen == ["moved", "shown"]
+    assert not window.producer.running and window.producer.error is None and threading.active_count() == before
+    assert window.session.stepper is stepper and window.session.stepper.newton is newton
+    assert window.session.value("gamma") == pytest.approx(gamma) and window.session.state.t > 0
+
+
+def test_the_readout_says_where_the_compatibility_test_refuses_the_grid():
+    r = Session(scenes.config("hanging", nodes=(5, 5)), "fd").readout()  # the test needs 6 nodes a side
+    assert r.ratio is None and np.isnan(r.residual) and "margin" in r.verdict
+    assert f"compatibility (eq. 10): not computed ({r.verdict})" in r.text()

@@ -2,9 +2,12 @@ r"""``deformable view SCENE|FILE.toml [KEY=VALUE ...]``: the scene running in a 
 
 The paper's macro group (mu, gamma, the force scale) and micro group (eta, xi) as sliders that change the
 running simulation; the time, energies, largest stretch and the compatibility test (eq. (10)) shown live;
-space pauses, ``r`` resets, ``g`` records a GIF (:mod:`validation.viewer`). ``--offscreen --frames N
---screenshot FILE`` runs N frames without a window, saves the last one and prints the frame rate against
-real time. Exit code 0, 1 when the run diverged, 2 on bad input (one line).
+space pauses, ``r`` resets, ``g`` records a GIF (:mod:`validation.viewer`). In the window the simulation runs
+in a thread of its own and the window draws the newest frame at its own rate; ``--frames N`` runs N frames in
+turn in this thread instead (simulation, then drawing: deterministic). ``--offscreen --frames N --screenshot FILE``
+runs N frames without a window (each rendered off screen), saves the last one and prints the frame rate against
+real time and the CPU seconds of stepping and of drawing. Exit code 0, 1 when the run diverged, 2 on bad input
+(one line).
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ def configure(parser) -> None:
     parser.add_argument("--grid", default="20x20", help="node grid MxN (default: 20x20, light enough for real time)")
     parser.add_argument("--fps", default="30", help="frames a simulated second (default: 30)")
     parser.add_argument("--offscreen", action="store_true", help="render without a window (default: a window)")
-    parser.add_argument("--frames", default=None, help="stop after this many frames (default: when the window closes)")
+    parser.add_argument("--frames", default=None, help="stop after this many frames, simulated and drawn in turn "
+                        "(default: when the window closes, the simulation in a thread of its own)")
     parser.add_argument("--screenshot", default=None, metavar="FILE", help="save the last frame as PNG (default: none)")
     parser.add_argument("--gif", default=None, metavar="FILE", help="where the g key records (default: SCENE.gif)")
 
@@ -46,7 +50,8 @@ def execute(args) -> int:
     session = window.session
     if frames is not None and not getattr(args, "quiet", False):
         simulated = session.state.t
+        cpu = window.cpu
         print(f"{cfg.scene}: {frames} frames, {simulated:.3f} s simulated in {wall:.2f} s wall "
-              f"({simulated / wall:.2f} x real time); {session.status}"
-              + (f"; screenshot {args.screenshot}" if args.screenshot else ""))
+              f"({simulated / wall:.2f} x real time; CPU {cpu['steps']:.2f} s stepping, {cpu['render']:.2f} s "
+              f"drawing); {session.status}" + (f"; screenshot {args.screenshot}" if args.screenshot else ""))
     return 0 if session.status == "running" else 1
