@@ -67,19 +67,22 @@ def _distance(a, b) -> float:
 
 
 def bench_rates(scene: str, backend: str, n: int, t_end: float, settings=("defaults", "ce6e554"),
-                progress=print) -> list[RateRow]:
+                progress=print, references: bool = True) -> list[RateRow]:
     """The rows of one scene and grid: each of ``settings`` timed, against the two tight references (module
-    docstring); each run in a process of its own."""
+    docstring; ``references=False``: none, the errors nan); each run in a process of its own."""
     say = progress or (lambda *_: None)
-    say(f"rates: {scene} {backend} {n}x{n}, {t_end:g} s: the tight references at dt and dt/2", flush=True)
-    tight = in_own_process(run_scene, scene, backend, n, t_end, TIGHT, 1.0, True)
-    half = in_own_process(run_scene, scene, backend, n, t_end, TIGHT, 0.5, True)
-    time_error = _distance(tight, half)
+    tight = (None, None)
+    time_error = float("nan")
+    if references:
+        say(f"rates: {scene} {backend} {n}x{n}, {t_end:g} s: the tight references at dt and dt/2", flush=True)
+        tight = in_own_process(run_scene, scene, backend, n, t_end, TIGHT, 1.0, True)
+        half = in_own_process(run_scene, scene, backend, n, t_end, TIGHT, 0.5, True)
+        time_error = _distance(tight, half)
     rows = []
     for name in settings:
         say(f"rates: {scene} {backend} {n}x{n}, {t_end:g} s under {name}", flush=True)
         run = in_own_process(run_scene, scene, backend, n, t_end, SETTINGS[name], 1.0, True)
-        r, error = run[0], _distance(run, tight)
+        r, error = run[0], _distance(run, tight) if references else float("nan")
         rows.append(RateRow(**asdict(r), settings=name, rate=r.t_reached / r.cpu if r.cpu > 0 else float("nan"),
                             newton_error=error, time_error=time_error,
                             error_ratio=error / time_error if time_error > 0 else float("nan")))

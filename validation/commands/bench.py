@@ -30,6 +30,8 @@ from validation.benches import (
     format_table,
 )
 from validation.benches.measure import emit, in_own_process
+from validation.benches.rates import SETTINGS as RATE_SETTINGS
+from validation.benches.selfcontact import bench_self, format_self
 
 __all__ = ["configure", "execute"]
 
@@ -59,6 +61,20 @@ def configure(parser) -> None:
     parser.add_argument("--contact-steps", default="40", metavar="K",
                         help="contact rows: timed steps after one warm-up, long enough for the cloth to drape over "
                         "the ball (default: 40)")
+    parser.add_argument("--self-fd", default=None, metavar="N,...",
+                        help="self-contact rows (the curtain with its self-contact against without), FD: nodes a side "
+                        "(default with --backend fd or all: 32,64); '' for none")
+    parser.add_argument("--self-fe", default=None, metavar="N,...",
+                        help="self-contact rows, FE: elements a side (default: none)")
+    parser.add_argument("--self-time", default="2", metavar="T",
+                        help="self-contact rows: seconds of the curtain's motion (default: 2, its whole run)")
+    parser.add_argument("--bar", action="store_true",
+                        help="the curtain bar: the shipped curtain on --bar-grid nodes for --bar-time s in fixed-matrix "
+                        "SuperLU factor+solves per simulated second, with its Newton error against dt vs dt/2 "
+                        "(default: off)")
+    parser.add_argument("--bar-grid", default="48", metavar="N", help="the curtain bar: FD nodes a side (default: 48)")
+    parser.add_argument("--bar-time", default="0.5", metavar="T",
+                        help="the curtain bar: seconds of motion (default: 0.5)")
     parser.add_argument("--scenes", default="", metavar="NAME,...",
                         help="scene rows: shipped scenes run for --scene-time s, e.g. curtain,flag (default: none)")
     parser.add_argument("--scene-fd", default=None, metavar="N,...",
@@ -79,14 +95,29 @@ def configure(parser) -> None:
                         help="rate rows, FE: elements a side (default: 16,32); '' for none")
     parser.add_argument("--rates-curtain-fd", default="256", metavar="N,...",
                         help="rate rows, the curtain alone, FD: further nodes a side (default: 256); '' for none")
+    parser.add_argument("--rates-settings", default="defaults,ce6e554", metavar="NAME,...",
+                        help="rate rows: the Newton settings timed, defaults and/or ce6e554 (default: both)")
+    parser.add_argument("--no-rates-references", dest="rates_references", action="store_false",
+                        help="rate rows: no tight references (the Newton and time errors not measured; hours saved at "
+                        "FD 256)")
     parser.add_argument("--rates-time", default="2", metavar="T",
                         help="rate and peer rows: seconds of motion (default: 2)")
     parser.add_argument("--peers", action="store_true",
                         help="peer rows: newton's VBD and Style3D (pip install '.[peers]') on the 64 x 64 "
                         "hanging cloth, beside this project's hanging cloth on FD 64 x 64 nodes (default: off)")
+    parser.add_argument("--realtime", default=None, metavar="SCENE",
+                        help="the real-time rows alone (none of the tables above): a shipped scene stepped, its "
+                        "readout taken and rendered off screen as `deformable view --offscreen` does, at 30 frames a "
+                        "simulated second, for --t-end s on --grid nodes and each backend of --backend, in CPU s on "
+                        "one thread; a row a run appended to bench_realtime.csv (default: off)")
+    parser.add_argument("--grid", default="20x20", metavar="MxN",
+                        help="real-time rows: the node grid, as deformable view's (default: 20x20)")
+    parser.add_argument("--t-end", default="2", metavar="T",
+                        help="real-time rows: seconds of motion (default: 2)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
     parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
-                        "bench_scenes.csv, bench_rates.csv and bench_peers.csv (default: reports/bench)")
+                        "bench_self.csv, bench_bar.csv, bench_scenes.csv, bench_rates.csv, bench_peers.csv and "
+                        "bench_realtime.csv (default: reports/bench)")
 
 
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
@@ -102,6 +133,7 @@ def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
 
 #: the grids of the implicit, contact and scene rows of a backend that --backend takes, unless given
 ROW_DEFAULTS = {"implicit": {"fd": "20,64,128", "fe": "16,32"}, "contact": {"fd": "64", "fe": ""},
+                "self": {"fd": "32,64", "fe": ""},
                 "scene": {"fd": "64", "fe": "32"}}
 
 
@@ -141,10 +173,15 @@ def _parse(args):
             raise InputError(f"--scenes: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
     t_end = _seconds(args.scene_time, "--scene-time")
     implicit_time = _seconds(args.implicit_time, "--implicit-time")
+    self_rows = (_row_sizes(args, "self", backends), _seconds(args.self_time, "--self-time"))
+    bar = (_positive_int(args.bar_grid, "--bar-grid"), _seconds(args.bar_time, "--bar-time")) if args.bar else None
+    if bar is not None and bar[0] < 3:
+        raise InputError(f"--bar-grid needs at least 3 nodes a side, got {args.bar_grid!r}")
     scene_grids = _row_sizes(args, "scene", backends)
     if names and not any(scene_grids.values()):
         raise InputError(f"--scenes {args.scenes!r} needs a grid: --scene-fd or --scene-fe")
-    return backends, sizes, (implicit, implicit_time), contact, steps, (names, scene_grids, t_end), _rate_jobs(args)
+    return backends, sizes, (implicit, implicit_time), contact, steps, (names, scene_grids, t_end), _rate_jobs(args), \
+        self_rows, bar
 
 
 def _seconds(text, flag: str) -> float:
@@ -158,9 +195,9 @@ def _seconds(text, flag: str) -> float:
     return value
 
 
-def _rate_jobs(args) -> tuple[list, float]:
-    """The rate rows' (scene, backend, n) and their seconds of motion; none without --rates (the hanging cloth
-    on FD 64 with --peers)."""
+def _rate_jobs(args) -> tuple:
+    """The rate rows' (scene, backend, n), their seconds of motion, the settings timed and whether the tight
+    references run; no rows without --rates (the hanging cloth on FD 64 with --peers)."""
     t_end = _seconds(args.rates_time, "--rates-time")
     jobs = []
     if args.rates:
@@ -176,7 +213,13 @@ def _rate_jobs(args) -> tuple[list, float]:
             raise InputError("--rates needs a scene and a grid: --rates-scenes with --rates-fd or --rates-fe")
     if args.peers and ("hanging", "fd", 64) not in jobs:
         jobs.append(("hanging", "fd", 64))
-    return jobs, t_end
+    settings = tuple(name.strip() for name in str(args.rates_settings).split(",") if name.strip())
+    for name in settings:
+        if name not in RATE_SETTINGS:
+            raise InputError(f"--rates-settings: unknown settings {name!r}; known: {', '.join(RATE_SETTINGS)}")
+    if not settings:
+        raise InputError("--rates-settings needs at least one of " + ", ".join(RATE_SETTINGS))
+    return jobs, t_end, settings, args.rates_references
 
 
 def execute(args) -> int:
@@ -185,8 +228,10 @@ def execute(args) -> int:
     from validation.harness.report import writable_folder
 
     parsed = _parse(args)
-    backends, sizes, (implicit, implicit_time), contact, (steps, contact_steps), (names, scene_grids, t_end), rates = \
-        parsed
+    if args.realtime is not None:  # the real-time rows alone
+        return _realtime(args, parsed[0])
+    backends, sizes, (implicit, implicit_time), contact, (steps, contact_steps), (names, scene_grids, t_end), rates, \
+        (self_grids, self_time), bar = parsed
     out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
     rows = [in_own_process(bench_one, b, n, steps, args.solver) for b in backends for n in sizes]
     emit(out / "bench.csv", rows, format_table,
@@ -202,6 +247,19 @@ def execute(args) -> int:
     emit(out / "bench_contact.csv", crows, format_contact,
           [("step_ratio", lambda r: r.step_ratio), ("iteration_ratio", lambda r: r.iteration_ratio),
            ("self_ratio", lambda r: r.self_ratio), ("self_share", lambda r: r.self_share)])
+    selfrows = []
+    for b in ("fd", "fe"):
+        for n in self_grids[b]:  # minutes each: say which one runs
+            print(f"self-contact row: curtain {b} {n}x{n}, {self_time:g} s with and without", flush=True)
+            selfrows.append(in_own_process(bench_self, b, n, self_time))
+    emit(out / "bench_self.csv", selfrows, format_self, [("ratio", lambda r: r.ratio)])
+    if bar is not None:
+        from validation.benches.bar import bench_bar, format_bar
+
+        print(f"the curtain bar: FD {bar[0]}x{bar[0]}, {bar[1]:g} s (three runs: the row and its tight references)",
+              flush=True)
+        emit(out / "bench_bar.csv", [bench_bar(*bar)], format_bar,
+             [("bar", lambda r: r.bar), ("error_ratio", lambda r: r.error_ratio)])
     jobs = [(name, b, n) for name in names for b in ("fd", "fe") for n in scene_grids[b]]
     srows = []
     for k, (name, b, n) in enumerate(jobs, 1):  # minutes each: say which one runs
@@ -212,7 +270,7 @@ def execute(args) -> int:
     return 0
 
 
-def _rates(out: Path, jobs, t_end: float, peers: bool) -> None:
+def _rates(out: Path, jobs, t_end: float, settings, references: bool, peers: bool) -> None:
     """The rate rows, the peer rows and the verdicts computed from them (bench_rates.md)."""
     from validation.benches.peers import bench_peers, format_peers
     from validation.benches.rates import bench_rates, format_rates, verdicts
@@ -220,7 +278,7 @@ def _rates(out: Path, jobs, t_end: float, peers: bool) -> None:
     rows = []
     for k, (name, b, n) in enumerate(jobs, 1):  # minutes to hours each: say which one runs
         print(f"rate rows {k} of {len(jobs)}", flush=True)
-        rows += bench_rates(name, b, n, t_end)
+        rows += bench_rates(name, b, n, t_end, settings, references=references)
     emit(out / "bench_rates.csv", rows, format_rates)
     prows = []
     if peers:
@@ -233,3 +291,34 @@ def _rates(out: Path, jobs, t_end: float, peers: bool) -> None:
         (out / "bench_rates.md").write_text("# Rates: the speed and accuracy targets, computed from this run\n\n"
                                             + "".join(f"- {line}\n" for line in lines))
         print(f"wrote {out / 'bench_rates.md'}")
+
+
+def _realtime(args, backends) -> int:
+    """The real-time rows (``--realtime``; :mod:`validation.benches.realtime`): SCENE on each of ``backends``, each
+    in a process of its own, printed and appended to bench_realtime.csv. Bad input is refused before any work."""
+    from deformable.checks import extra
+    from validation.benches.realtime import bench_realtime, format_realtime, write_row
+    from validation.commands.run import parse_grid
+    from validation.harness.report import writable_folder
+
+    name = str(args.realtime).strip()
+    if name not in scenes.SCENES:
+        raise InputError(f"--realtime: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
+    try:
+        M, N = parse_grid(args.grid)
+        scenes.build(scenes.config(name, nodes=(M, N)))  # a grid the scene refuses (its margins), in a millisecond
+    except InputError as err:
+        raise InputError(f"--grid: {err}") from None
+    t_end = _seconds(args.t_end, "--t-end")
+    extra("pyvista", "render", "deformable bench --realtime")  # missing: one line saying how to install it
+    out = writable_folder(Path(args.out) if args.out else Path("reports") / "bench")
+    path = out / "bench_realtime.csv"
+    for k, b in enumerate(backends, 1):
+        print(f"real-time row {k} of {len(backends)}: {name} {b} {M}x{N} nodes, {t_end:g} s of motion", flush=True)
+        row, status = in_own_process(bench_realtime, name, b, f"{M}x{N}", t_end)
+        print(format_realtime([row]))
+        if status != "running":
+            print(f"{name} {b}: {status} at t = {row.sim_seconds:.3f} s")
+        appended = write_row(path, row)
+        print(f"{'appended to' if appended else 'wrote'} {path}")
+    return 0

@@ -12,7 +12,7 @@ from validation.commands import main
 
 
 def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
-    assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--implicit-fd", "8",
+    assert main(["bench", "--backend", "all", "--sizes", "8,12", "--steps", "2", "--self-fd", "", "--implicit-fd", "8",
                  "--implicit-fe", "4", "--implicit-time", "0.02", "--contact-fd", "6", "--contact-fe", "3",
                  "--contact-steps", "3",
                  "--out", str(tmp_path)]) == 0
@@ -57,8 +57,8 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
 
 def test_row_lists_given_run_whatever_the_backend_and_unset_ones_follow_it(tmp_path, capsys):
     """--implicit-fe given runs its FE rows under --backend fd; unset, FE's contact and scene rows stay off."""
-    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "3", "--implicit-time",
-                 "0.01", "--contact-fd", "", "--out", str(tmp_path)]) == 0
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--self-fd", "", "--implicit-fd", "", "--implicit-fe", "3",
+                 "--implicit-time", "0.01", "--contact-fd", "", "--out", str(tmp_path)]) == 0
     with (tmp_path / "bench_implicit.csv").open() as fh:
         assert [(r["backend"], r["grid"]) for r in csv.DictReader(fh)] == [("fe", "3x3")]
     assert not (tmp_path / "bench_contact.csv").exists() and not (tmp_path / "bench_scenes.csv").exists()
@@ -67,8 +67,8 @@ def test_row_lists_given_run_whatever_the_backend_and_unset_ones_follow_it(tmp_p
 
 def test_scene_rows_run_shipped_scenes_for_their_time(tmp_path, capsys):
     """Opt-in scene rows: each shipped scene as it ships, on each backend, with Newton's counts per step."""
-    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--implicit-fe", "", "--contact-fd", "",
-                 "--backend", "all", "--scenes", "curtain,hanging", "--scene-fd", "6", "--scene-fe", "3",
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--self-fd", "", "--implicit-fd", "", "--implicit-fe", "",
+                 "--contact-fd", "", "--backend", "all", "--scenes", "curtain,hanging", "--scene-fd", "6", "--scene-fe", "3",
                  "--scene-time", "0.02", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "scene 1 of 4: curtain fd 6x6" in out and "definite fallbacks / step" in out
@@ -105,6 +105,11 @@ def test_the_bench_steps_each_backend_within_its_own_stable_step(backend):
     (["--implicit-fd", "4,y"], "--implicit-fd must be comma-separated integers"),
     (["--implicit-fe", "2"], "--implicit-fe needs grid sizes of at least 3"),
     (["--implicit-time", "0"], "--implicit-time must be a positive number of seconds"),
+    (["--self-fd", "2"], "--self-fd needs grid sizes of at least 3"),
+    (["--self-time", "-1"], "--self-time must be a positive number of seconds"),
+    (["--bar", "--bar-grid", "x"], "--bar-grid must be a positive integer"),
+    (["--bar", "--bar-grid", "2"], "--bar-grid needs at least 3 nodes a side"),
+    (["--rates-settings", "fast"], "--rates-settings: unknown settings 'fast'"),
     (["--scenes", "curtain", "--scene-fd", ""], "--scenes 'curtain' needs a grid"),
     (["--contact-fd", "z"], "--contact-fd must be comma-separated integers"),
     (["--solver", "mumps"], "solver must be one of"),
@@ -126,8 +131,8 @@ def test_bench_bad_input(argv, message, tmp_path, capsys):
 def test_rate_rows_time_both_settings_against_their_references(tmp_path, capsys):
     """``--rates``: the curtain on FD 6 x 6 nodes under the defaults and ce6e554's settings, each with its Newton
     error against the tight run and the dt vs dt/2 difference; the verdicts name what this run did not measure."""
-    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--contact-fd", "", "--rates",
-                 "--rates-scenes", "curtain", "--rates-fd", "6", "--rates-fe", "", "--rates-curtain-fd", "",
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--self-fd", "", "--implicit-fd", "", "--contact-fd", "",
+                 "--rates", "--rates-scenes", "curtain", "--rates-fd", "6", "--rates-fe", "", "--rates-curtain-fd", "",
                  "--rates-time", "0.03", "--out", str(tmp_path)]) == 0
     with (tmp_path / "bench_rates.csv").open() as fh:
         rows = list(csv.DictReader(fh))
@@ -140,6 +145,31 @@ def test_rate_rows_time_both_settings_against_their_references(tmp_path, capsys)
         assert 0 <= error < time_error and float(r["error_ratio"]) == pytest.approx(error / time_error)
     verdicts = (tmp_path / "bench_rates.md").read_text()
     assert "curtain FD 64x64 nodes: not measured in this run" in verdicts
+
+
+def test_self_contact_rows_and_the_curtain_bar(tmp_path, capsys):
+    """The self-contact rows: the curtain with its self-contact against without, their ratio and counts; the curtain
+    bar: CPU per simulated second in units of a fixed matrix's SuperLU factor+solve, with its Newton error against
+    dt vs dt/2; the rate rows under one setting without references (errors not measured)."""
+    assert main(["bench", "--sizes", "8", "--steps", "1", "--implicit-fd", "", "--contact-fd", "", "--self-fd", "8",
+                 "--self-time", "0.03", "--bar", "--bar-grid", "8", "--bar-time", "0.03", "--rates", "--rates-scenes",
+                 "curtain", "--rates-fd", "6", "--rates-fe", "", "--rates-curtain-fd", "", "--rates-time", "0.02",
+                 "--rates-settings", "defaults", "--no-rates-references", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "self-contact row: curtain fd 8x8" in out and "factor+solves / simulated s" in out
+    with (tmp_path / "bench_self.csv").open() as fh:
+        (row,) = list(csv.DictReader(fh))
+    assert row["grid"] == "8x8" and float(row["step_self"]) > 0 and float(row["step_free"]) > 0
+    assert float(row["ratio"]) == pytest.approx(float(row["step_self"]) / float(row["step_free"]), rel=1e-3)
+    assert int(row["rejected_self"]) >= 0 and 1 <= float(row["broad_phases"]) and 0 <= float(row["bounded"]) <= 1
+    with (tmp_path / "bench_bar.csv").open() as fh:
+        (bar,) = list(csv.DictReader(fh))
+    assert bar["status"] == "finished" and float(bar["t_end"]) == pytest.approx(0.03) and float(bar["unit"]) > 0
+    assert float(bar["bar"]) == pytest.approx(float(bar["cpu"]) / 0.03 / float(bar["unit"]), rel=1e-3)
+    assert 0 <= float(bar["newton_error"]) < float(bar["time_error"])
+    with (tmp_path / "bench_rates.csv").open() as fh:
+        (rate,) = list(csv.DictReader(fh))
+    assert rate["settings"] == "defaults" and rate["newton_error"] == "nan" and float(rate["peak_mb"]) > 10
 
 
 def _rate(scene, grid, settings, rate, **kw):
@@ -165,3 +195,51 @@ def test_the_rate_verdicts_follow_the_numbers():
     assert "sphere FD 64x64 Newton error: not measured in this run" in lines
     slower = verdicts([_rate("curtain", "64x64", "defaults", 0.03), _rate("curtain", "64x64", "ce6e554", 0.02)])
     assert slower[0].endswith("1.50x (target >= 2x): NOT met")
+
+
+def test_realtime_rows_run_the_view_offscreen_and_append_a_row_a_run(tmp_path, capsys):
+    """``--realtime``: the scene stepped and drawn as ``deformable view --offscreen`` does, in CPU seconds; each run
+    appends its row (one scene, then another: two rows), and the default tables do not run."""
+    for scene in ("hanging", "flag"):
+        assert main(["bench", "--realtime", scene, "--grid", "6x6", "--t-end", "0.1", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    with (tmp_path / "bench_realtime.csv").open() as fh:
+        reader = csv.DictReader(fh)
+        rows = list(reader)
+    assert reader.fieldnames == ["scene", "backend", "grid", "sim_seconds", "cpu_steps", "cpu_render",
+                                 "realtime_factor"]
+    assert [(r["scene"], r["backend"], r["grid"]) for r in rows] == [("hanging", "fd", "6x6"), ("flag", "fd", "6x6")]
+    for r in rows:
+        sim, steps, render = float(r["sim_seconds"]), float(r["cpu_steps"]), float(r["cpu_render"])
+        assert sim == pytest.approx(0.1)  # 3 frames at 30 a simulated second, whole 5 ms steps
+        assert steps > 0 and render > 0
+        assert float(r["realtime_factor"]) == pytest.approx(sim / (steps + render), rel=1e-5)
+        assert f"| {r['scene']} | fd | 6x6 | {r['sim_seconds']} | {r['cpu_steps']} | {r['cpu_render']} | " \
+               f"{r['realtime_factor']} |" in out  # the same row printed
+    assert "wrote" in out and "appended to" in out
+    assert not (tmp_path / "bench.csv").exists() and not (tmp_path / "bench_implicit.csv").exists()
+
+
+def test_a_realtime_table_of_other_columns_is_written_anew(tmp_path):
+    from validation.benches.realtime import COLUMNS, RealtimeRow, write_row
+
+    path = tmp_path / "bench_realtime.csv"
+    path.write_text("scene,wall\ncurtain,3.5\n")
+    row = RealtimeRow("curtain", "fd", "20x20", 2.0, 3.0, 1.0, 0.5)
+    assert not write_row(path, row) and write_row(path, row)
+    assert path.read_text().splitlines() == [",".join(COLUMNS)] + ["curtain,fd,20x20,2,3,1,0.5"] * 2
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--realtime", "drapes"], "--realtime: unknown scene 'drapes'"),
+    (["--realtime", "curtain", "--grid", "20"], "--grid: malformed grid '20'"),
+    (["--realtime", "curtain", "--grid", "2x20"], "--grid: grid '2x20' needs at least 3 nodes a side"),
+    (["--realtime", "flag", "--t-end", "-2"], "--t-end must be a positive number of seconds, got '-2'"),
+    (["--realtime", "flag", "--t-end", "x"], "--t-end must be a positive number of seconds"),
+    (["--realtime", "flag", "--backend", "fv"], "unknown backend 'fv'"),
+])
+def test_realtime_bad_input(argv, message, tmp_path, capsys):
+    assert main(["bench", *argv, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and message in err
+    assert not (tmp_path / "o").exists()
