@@ -50,6 +50,10 @@ __all__ = ["Directions"]
 
 #: CG's budget is at least this many iterations, at most this many
 CG_BUDGET = (2, 40)
+#: "auto" keeps factorisations across steps, and solves by preconditioned CG rather than refactorise, where one
+#: factorisation costs at least this many solves by the solver's own count (module docstring of
+#: :mod:`deformable.solve.newton`, "Fine grids": the curtain's FD 64 x 64 matrix costs 78, its 128 x 128 124)
+LAG_FROM = 100.0
 
 
 class Directions:
@@ -214,9 +218,19 @@ class Directions:
             return True
         return math.log(xtol / size) / math.log(ratio) > self.settings.chords + 1
 
+    def costly(self) -> bool:
+        """Whether a factorisation costs at least :data:`LAG_FROM` solves by the solver's own count (False before the
+        first, or for a solver that does not count)."""
+        ratio = self.solver.cost_ratio
+        return ratio is not None and ratio >= LAG_FROM
+
     def break_even(self) -> int:
-        """CG's budget: the iterations (one solve and one product each) that cost one factorisation, from the
-        times measured in this run, within :data:`CG_BUDGET`."""
+        """CG's budget: the iterations (one solve and one product each) that cost one factorisation, within
+        :data:`CG_BUDGET`: half the solver's own count of the solves a factorisation costs, where it counts (the
+        same on every machine), else from the times measured in this run."""
+        ratio = self.solver.cost_ratio
+        if ratio is not None:
+            return int(min(CG_BUDGET[1], max(CG_BUDGET[0], ratio // 2)))
         factor, solve, product = (self._cost[k] for k in ("factor", "solve", "product"))
         if factor is None or solve is None:
             return CG_BUDGET[0]

@@ -50,15 +50,27 @@ that ended on the step test with no fallback, chords going on while they pay
 (:meth:`Directions.slow`, a count: the trajectory does not depend on the
 machine's load); a checkpoint keeps where it was made and a resumed run
 makes it again (:meth:`Newton.memory`, :meth:`Newton.recall`), so the run
-continues bit for bit. Measured (FD 64 x 64 nodes, CPU time, one thread):
-the curtain for 1 s 36.7 s under "force", 25.2 s under "step", 28.5 s under
-"step" with ``lag`` (3.33 iterations a step against 2.25, as a chord may end
-a solve only after it contracted; 1.06 factorisations a step against 1.14);
-the hanging cloth for 0.5 s 14.3 s, 15.8 s with ``lag``: so ``lag`` is off.
-``krylov=True``: PCG on the exact matrix instead (:mod:`.krylov`). The
-Newton error the step test leaves against the time discretisation's is
-measured in docs/design.md ("Newton's convergence test"); studies that need
-a tight solve set ``test="force"``.
+continues bit for bit. ``krylov=True``: where a chord does not pay, PCG on the
+exact matrix preconditioned by the factorisation at hand instead of a new
+factorisation (:mod:`.krylov`), within a budget of half the solves a
+factorisation costs. The Newton error the step test leaves against the time
+discretisation's is measured in docs/design.md ("Newton's convergence test");
+studies that need a tight solve set ``test="force"``.
+
+Fine grids. Both are ``"auto"`` by default: on where one factorisation costs
+at least :data:`deformable.solve.directions.LAG_FROM` (100) solves, by the
+solver's own count (PARDISO's flops of the factorisation over four times the
+factor's entries; a count, so the trajectory does not depend on the machine),
+off elsewhere. The count grows with the grid (the curtain's Newton matrix: FD
+20 x 20 nodes 28, 32 x 32 48, 64 x 64 78, 128 x 128 124; FE 16 x 16 elements
+55, 32 x 32 88), and so does a factorisation's share of a step. Measured on
+the curtain with its self-contact (CPU, one thread): FD 32 x 32 for 1 s
+38.1 ms a step, 42.7 with both on (3.29 iterations and 0.53 factorisations a
+step against 2.24 and 1.21); FD 64 x 64 149 against 168 ms; FD 128 x 128 for
+0.5 s 647 against 443 ms (2.22 iterations, 0.22 factorisations a step, against
+1.33 and 1.03; ``lag`` alone 492 ms); FD 256 x 256 for 0.15 s 5.7 against
+3.4 s a step, set-up included. With SuperLU, which counts nothing, both stay
+off.
 
 Loads below the absolute terms of the tolerance. The tolerance has two
 absolute terms, ``atol`` and the round-off floor of the internal forces
@@ -174,7 +186,13 @@ class Newton:
         """The next solve under the step test may start from the factorisation at hand (``lag``, after a solve
         that ended on the step test without a fallback; a linear model keeps its own anyway)."""
         s = self.settings
-        return s.lag and s.reuse and self._smooth and not self.problem.linear
+        return self._on("lag") and s.reuse and self._smooth and not self.problem.linear
+
+    def _on(self, name: str) -> bool:
+        """Whether ``lag`` or ``krylov`` is on: as set, or for "auto" where a factorisation is costly
+        (:meth:`Directions.costly`)."""
+        value = getattr(self.settings, name)
+        return self.directions.costly() if value == "auto" else bool(value)
 
     def recall(self, memory: dict) -> None:
         """Make again the factorisation :meth:`memory` describes (InputError naming the key when it does not fit
@@ -347,7 +365,7 @@ class Newton:
             else:
                 drop = size > 0.5 * last if size <= xtol else D.slow(size, last, xtol)
             if not D.here and drop:
-                if s.krylov:
+                if self._on("krylov"):
                     forcing_term = forcing(r[-1], r[-2] if len(r) > 1 else None, forcing_term)
                     d, solved = D.inexact(x, g, d, cm, cc, forcing_term, report)
                     trusted = solved and s.hessian in ("auto", "newton") or (not solved and D.exact)

@@ -75,12 +75,13 @@ class NewtonSettings:
     test, vtol : str, float
         "step" (default) or "force": "step" is also converged on a trusted direction no longer than vtol dt
         (vtol in m/s; time steps without obstacles; module docstring, "Convergence tests").
-    lag, contraction, chords, krylov : bool, float, float, bool
-        Under "step": keep a factorisation across steps (measured slower: off; module docstring of
-        :mod:`deformable.solve.newton`); refactorise when a chord contracts less than ``contraction``, or when
-        the chords still needed outnumber ``chords`` + 1 (a factorisation with its assembly costs about
-        ``chords`` chord iterations: 7-8 at FD 64-128, one thread); PCG instead of a refactorisation (measured
-        slower: off).
+    lag, contraction, chords, krylov : bool or "auto", float, float, bool or "auto"
+        Under "step": keep a factorisation across steps; refactorise when a chord contracts less than
+        ``contraction``, or when the chords still needed outnumber ``chords`` + 1 (a factorisation with its
+        assembly costs about ``chords`` chord iterations: 7-8 at FD 64-128, one thread); PCG on the exact matrix
+        preconditioned by the factorisation at hand instead of a refactorisation. "auto" (the default, both): on
+        where a factorisation costs at least :data:`deformable.solve.directions.LAG_FROM` solves by the solver's
+        own count (module docstring of :mod:`deformable.solve.newton`, "Fine grids"), off elsewhere.
     fallback : str
         The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
     """
@@ -95,10 +96,10 @@ class NewtonSettings:
     armijo: float = 1e-4
     test: str = "step"
     vtol: float = 1e-2
-    lag: bool = False
+    lag: bool | str = "auto"
     contraction: float = 0.9
     chords: float = 8.0
-    krylov: bool = False
+    krylov: bool | str = "auto"
     fallback: str = "definite"
 
     def __post_init__(self):
@@ -130,9 +131,10 @@ class NewtonSettings:
                 raise InputError(f"newton {name} must be a finite positive number, got {v!r}", field=f"newton.{name}",
                                  value=v)
         for name in ("lag", "krylov", "reuse"):
-            if not isinstance(getattr(self, name), bool):
-                raise InputError(f"newton {name} must be true or false, got {getattr(self, name)!r}",
-                                 field=f"newton.{name}", value=getattr(self, name))
+            v = getattr(self, name)
+            if not (isinstance(v, bool) or (name != "reuse" and v == "auto")):
+                raise InputError(f"newton {name} must be true or false{'' if name == 'reuse' else ' or auto'}, got "
+                                 f"{v!r}", field=f"newton.{name}", value=v)
         c = self.armijo
         if isinstance(c, bool) or not isinstance(c, (int, float)) or not 0 < c < 0.5:
             raise InputError(f"newton armijo must lie in (0, 1/2), got {c!r}", field="newton.armijo", value=c)
