@@ -99,7 +99,7 @@ class Implicit(Scheme):
                  solver: str = "auto"):
         self.model = model
         self.flat = FlatEnergy(model)
-        self.newton = Newton(self.flat, newton)
+        self.newton = Newton(self.flat, newton, inertia=True)
         self.reports: list = []
         self.rejected = 0
         self.timings = {"hessian": 0.0, "factor": 0.0, "solve": 0.0, "search": 0.0}

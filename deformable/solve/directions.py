@@ -65,13 +65,16 @@ class Directions:
     problem : FlatEnergy
         The potential (its Hessians, mass, damping, held degrees of freedom, direction filter).
     settings : NewtonSettings
-        ``hessian`` and ``solver`` are read here.
+        ``hessian``, ``solver`` and ``precision`` are read here.
+    inertia : bool
+        The Newton matrices have inertia (time steps): "auto" precision is single there.
     """
 
-    def __init__(self, problem, settings):
+    def __init__(self, problem, settings, inertia: bool = False):
         self.problem, self.settings = problem, settings
         definite = settings.hessian in ("auto", "definite", "gauss-newton", "projected")
-        self.solver = make_solver(settings.solver, definite=definite)
+        single = settings.precision == "single" or (settings.precision == "auto" and inertia)
+        self.solver = make_solver(settings.solver, definite=definite, single=single)
         self._system = None
         self.factored = None  # (c_M, c_C) of the factorisation at hand, or None
         self.exact = False  # the factorisation at hand is of the exact Newton matrix (not the definite fallback)

@@ -156,16 +156,18 @@ class Newton:
     problem : FlatEnergy
         The potential; its ``filter`` (None without one) changes and clips the directions.
     settings : NewtonSettings or dict, optional
+    inertia : bool
+        The problem's Newton matrices have inertia (time steps; :class:`Directions`).
 
     One object serves a whole run: it keeps the Newton matrix's pattern, the
     solver's analysis, the last factorisation and the step bound between solves.
     """
 
-    def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None):
+    def __init__(self, problem: FlatEnergy, settings: NewtonSettings | dict | None = None, inertia: bool = False):
         self.problem = problem
         self.settings = NewtonSettings.of(settings)
         self.search = LineSearch.lookup(self.settings.search)
-        self.directions = Directions(problem, self.settings)
+        self.directions = Directions(problem, self.settings, inertia)
         self._warned = False  # LoadBelowRoundOff said once for this object (one run)
         self._smooth = False  # the last solve ended on the step test without a fallback (module docstring)
         self._moved = 0.0  # the furthest a degree of freedom moved in the last iteration (m)

@@ -17,6 +17,8 @@ __all__ = ["NewtonReport", "NewtonSettings", "TESTS"]
 
 #: the convergence tests (module docstring, "Convergence tests")
 TESTS = ("step", "force")
+#: the factorisations' precision (NewtonSettings.precision)
+PRECISIONS = ("auto", "single", "double")
 
 
 @dataclass
@@ -84,6 +86,10 @@ class NewtonSettings:
         own count (module docstring of :mod:`deformable.solve.newton`, "Fine grids"), off elsewhere.
     fallback : str
         The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
+    precision : str
+        PARDISO's Cholesky in "single" or "double" precision; "auto" (default): single in time steps, whose
+        Newton matrices the inertia keeps well conditioned, double in equilibrium (:mod:`deformable.algebra.solvers`,
+        "Single precision").
     """
 
     rtol: float = 1e-3
@@ -101,6 +107,7 @@ class NewtonSettings:
     chords: float = 8.0
     krylov: bool | str = "auto"
     fallback: str = "definite"
+    precision: str = "auto"
 
     def __post_init__(self):
         from ..algebra.solvers import SOLVERS
@@ -122,6 +129,9 @@ class NewtonSettings:
         if self.fallback not in ("definite", "projected"):
             raise InputError(f"newton fallback must be 'definite' or 'projected', got {self.fallback!r}",
                              field="newton.fallback", value=self.fallback)
+        if self.precision not in PRECISIONS:
+            raise InputError(f"newton precision must be one of {', '.join(PRECISIONS)}, got {self.precision!r}",
+                             field="newton.precision", value=self.precision)
         if self.test not in TESTS:
             raise InputError(f"newton test must be one of {', '.join(TESTS)}, got {self.test!r}", field="newton.test",
                              value=self.test)

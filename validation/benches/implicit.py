@@ -113,7 +113,8 @@ class FloorRounds:
     them), on a solver of its own; :meth:`parts` gives each part's median over the rounds (CPU seconds)."""
 
     def __init__(self, model, stepper, solver: str):
-        self.model, self.stepper, self.solver = model, stepper, make_solver(solver, definite=True)
+        self.model, self.stepper = model, stepper
+        self.solver = make_solver(solver, definite=True, single=stepper.newton.solver.single)  # the step's precision
         newton = stepper.newton
         self.matrices = Directions(newton.problem, newton.settings)  # its own: the run's kept state is untouched
         self.seconds = []

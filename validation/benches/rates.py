@@ -70,7 +70,7 @@ def bench_rates(scene: str, backend: str, n: int, t_end: float, settings=("defau
                 progress=print, references: bool = True) -> list[RateRow]:
     """The rows of one scene and grid: each of ``settings`` timed, against the two tight references (module
     docstring; ``references=False``: none, the errors nan); each run in a process of its own."""
-    say = progress or (lambda *_: None)
+    say = progress or (lambda *_, **__: None)
     tight = (None, None)
     time_error = float("nan")
     if references:

@@ -127,7 +127,8 @@ def test_a_falling_sheet_reaches_the_terminal_speed_of_its_drag(backend, scheme)
     scene = flat_scene((5, 5), material=dm.Material(mu=mu, eta=20.0, xi=0.01), force_model=force_model,
                        forces=[dm.Gravity(g), dm.Wind(coefficient=c)])
     model = model_of(scene, backend)
-    result = dm.TimeStepper(model, dt, scheme=scheme).run(model.initial_state(), t_end=1.5)
+    newton = None if scheme == "semi-implicit" else dict(precision="double")  # round-off: double precision's
+    result = dm.TimeStepper(model, dt, scheme=scheme, newton=newton).run(model.initial_state(), t_end=1.5)
     assert result.status == "finished"
     v = result.state.V[model.value_dofs]
     np.testing.assert_allclose(v[:, 2], -np.sqrt(mu * g / c), rtol=1e-4)
