@@ -63,10 +63,13 @@ Each solver runs at the settings of newton's own hanging-cloth example
 substeps of 10 iterations, Style3D 2 substeps of 10 non-linear iterations (each of
 10 PCG iterations, its ``Config`` default). These are fixed budgets: neither
 solver has a convergence test, so a row says nothing about how far from the
-implicit-Euler solution a substep ends. The VBD example replays a frame as a
-captured graph (Warp records one on the CPU too) and so does this bench; Style3D's
-host calls cannot be captured on the CPU, as its example says, so it launches
-kernel by kernel. Self-contact (on in the example's VBD run) and Style3D's
+implicit-Euler solution a substep ends (the matched-accuracy study,
+:mod:`.accuracy`, measures that). The VBD example replays a frame as a
+captured graph (Warp records one on the CPU too) and so does this bench (two
+frames at a time where a frame has an odd number of substeps: the two states
+swap at each substep, and a replay must leave them where it found them);
+Style3D's host calls cannot be captured on the CPU, as its example says, so it
+launches kernel by kernel. Self-contact (on in the example's VBD run) and Style3D's
 collision handling are off: the project's scene has no contact.
 
 Measured: ``compile_s``, the CPU seconds (``time.process_time``) of building the
@@ -92,8 +95,12 @@ iterations per non-linear iteration leave the cloth falling slower than free fal
 and 0.201 m with 200 PCG iterations), so it creeps to the vertical and barely
 swings.
 
-newton and warp are imported only inside the functions: without them every row
-says so in its status, with a rate of nan.
+One function builds the cloth and steps it, :func:`run_peer` (a solver, its
+frame, substeps and iterations, the simulated time: the CPU seconds and the
+final positions); the rows here run it at the example's budgets, the
+matched-accuracy study (:mod:`.accuracy`) at many. newton and warp are imported
+only inside the functions: without them every row says so in its status, with a
+rate of nan.
 """
 
 import contextlib
@@ -108,7 +115,7 @@ import numpy as np
 from deformable import scenes
 from validation.harness.report import markdown_table
 
-__all__ = ["PEERS", "PeerRow", "bench_peer", "bench_peers", "format_peers"]
+__all__ = ["PEERS", "PeerRow", "PeerRun", "bench_peer", "bench_peers", "format_peers", "pinned", "run_peer"]
 
 #: frames per second of newton's cloth examples (the frame length dt = 1 / FPS s)
 FPS = 60
@@ -176,8 +183,10 @@ def _damping_kernel():
     return velocity_damping
 
 
-def _build(solver: str, n: int, cfg, iterations: int):
-    """(model, solver, pinned particle indices) of the hanging cloth on n x n particles for one newton solver."""
+def _build(solver: str, n: int, cfg, iterations: int, linear_iterations: int = 10):
+    """(model, solver) of the hanging cloth on n x n particles for one newton solver:
+    ``iterations`` VBD iterations, or Style3D non-linear iterations of ``linear_iterations`` PCG iterations each,
+    per substep."""
     import newton
     import warp as wp
     from newton.solvers import style3d
@@ -195,8 +204,7 @@ def _build(solver: str, n: int, cfg, iterations: int):
     else:
         builder.add_cloth_grid(**grid, tri_ke=4 * cfg.eta, tri_ka=0.0, tri_kd=0.0, edge_ke=2 * cfg.xi / h, edge_kd=0.0)
     builder.particle_mass[:] = [grid["mass"]] * n * n
-    pinned = [(n - 1) * n, n * n - 1]
-    for p in pinned:
+    for p in pinned(n):
         builder.particle_mass[p] = 0.0
         builder.particle_flags[p] = builder.particle_flags[p] & ~newton.ParticleFlags.ACTIVE
     if solver == "vbd":
@@ -204,27 +212,86 @@ def _build(solver: str, n: int, cfg, iterations: int):
     model = builder.finalize(device="cpu")
     model.set_gravity((0.0, 0.0, -cfg.g))
     if solver == "style3d":
-        config = newton.solvers.SolverStyle3D.Config(iterations=iterations)
+        config = newton.solvers.SolverStyle3D.Config(iterations=iterations, linear_iterations=linear_iterations)
         sim = newton.solvers.SolverStyle3D(model=model, config=config)
         sim.collision = None
     else:
         sim = newton.solvers.SolverVBD(model=model, iterations=iterations)
-    return model, sim, pinned
+    return model, sim
 
 
-def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:
-    """One newton solver ("vbd" or "style3d") on the hanging cloth of nodes x nodes particles for t_end seconds."""
-    peer, substeps, iterations = PEERS[solver]
-    dt = 1.0 / FPS
-    frames = math.ceil(t_end / dt - 1e-9)
+def pinned(n: int) -> list[int]:
+    """The pinned particles of the n x n cloth: the two corners of its last row (newton's grid helpers number the
+    particles row by row)."""
+    return [(n - 1) * n, n * n - 1]
 
-    def row(status, steps=0, cpu=math.nan, wall=math.nan, compile_s=math.nan, drop=math.nan):
-        rate = frames * dt / cpu if steps and cpu > 0 else math.nan
-        return PeerRow(peer, solver, f"{nodes}x{nodes}", nodes * nodes, dt, substeps, iterations, t_end, steps, cpu,
-                       wall, rate, compile_s, drop, status, NOTE[solver])
+
+@dataclass(frozen=True)
+class PeerRun:
+    """What one run of a newton solver on the hanging cloth measured: CPU and wall seconds of the timed frames,
+    the CPU seconds before them (``compile_s``), the substeps taken and the final positions (m)."""
+
+    solver: str
+    frame_dt: float  # s
+    substeps: int  # substeps per frame
+    iterations: int  # VBD iterations, or Style3D non-linear iterations, per substep
+    linear_iterations: int  # Style3D's PCG iterations per non-linear iteration (VBD: 0)
+    frames: int
+    cpu: float  # s
+    wall: float  # s
+    compile_s: float  # s
+    q: np.ndarray | None  # final particle positions (particles, 3), m; None unless the run ended
+    status: str  # "ran", or why not (MISSING, a failure)
+
+    @property
+    def t_end(self) -> float:
+        """The simulated time (s): whole frames."""
+        return self.frames * self.frame_dt
+
+    @property
+    def steps(self) -> int:
+        """Substeps taken (0 unless the run ended)."""
+        return self.frames * self.substeps if self.q is not None else 0
+
+
+def run_peer(solver: str, nodes: int = 64, frame_dt: float = 1.0 / FPS, substeps: int = 1, iterations: int = 10,
+             t_end: float = 2.0, linear_iterations: int = 10) -> PeerRun:
+    """Run one newton solver ("vbd" or "style3d") on the hanging cloth of nodes x nodes particles, in this process.
+
+    Builds the model and solver, runs one warm-up frame (and, VBD, captures a graph), then runs ceil(t_end /
+    frame_dt) frames from the initial state again, timed (module docstring).
+
+    Parameters
+    ----------
+    solver : str
+        "vbd" or "style3d".
+    nodes : int
+        Particles a side.
+    frame_dt : float
+        The frame (s); a substep is frame_dt / substeps.
+    substeps : int
+        Substeps per frame.
+    iterations : int
+        VBD iterations, or Style3D non-linear iterations, per substep.
+    t_end : float
+        Simulated time (s), rounded up to whole frames.
+    linear_iterations : int
+        Style3D's PCG iterations per non-linear iteration (ignored by VBD).
+
+    Returns
+    -------
+    PeerRun
+        Times in CPU and wall seconds, the final positions (m); its status says MISSING without newton or warp,
+        the exception if the run failed.
+    """
+    frames = math.ceil(t_end / frame_dt - 1e-9)
+    linear = linear_iterations if solver == "style3d" else 0
+
+    def run(status, cpu=math.nan, wall=math.nan, compile_s=math.nan, q=None):
+        return PeerRun(solver, frame_dt, substeps, iterations, linear, frames, cpu, wall, compile_s, q, status)
 
     if _missing():
-        return row(MISSING)
+        return run(MISSING)
     import warp as wp
 
     cfg = scenes.config("hanging", nodes=(nodes, nodes))
@@ -233,10 +300,10 @@ def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:
     try:
         with wp.ScopedDevice("cpu"), contextlib.redirect_stdout(io.StringIO()):
             c0 = time.process_time()
-            model, sim, pinned = _build(solver, nodes, cfg, iterations)
+            model, sim = _build(solver, nodes, cfg, iterations, linear)
             s0, s1 = model.state(), model.state()
             kernel, c = _damping_kernel(), cfg.gamma / cfg.mu
-            h = dt / substeps
+            h = frame_dt / substeps
 
             def frame():
                 nonlocal s0, s1
@@ -247,10 +314,14 @@ def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:
                     s0, s1 = s1, s0
 
             frame()
+            # a graph replays whole frames and must leave the states where it found them: an even number of
+            # substeps (the states swap at each), so one frame, or two of an odd number of substeps
+            block = 1 if substeps % 2 == 0 else 2
             graph = None
-            if solver == "vbd" and substeps % 2 == 0:
+            if solver == "vbd":
                 with wp.ScopedCapture() as capture:
-                    frame()
+                    for _ in range(block):
+                        frame()
                 graph = capture.graph
             wp.synchronize()
             compile_s = time.process_time() - c0
@@ -258,27 +329,42 @@ def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:
                 s.particle_q.assign(model.particle_q)
                 s.particle_qd.assign(model.particle_qd)
             w0, c0 = time.perf_counter(), time.process_time()
-            for _ in range(frames):
-                if graph is not None:
-                    wp.capture_launch(graph)
-                else:
-                    frame()
+            replays, rest = divmod(frames, block) if graph is not None else (0, frames)
+            for _ in range(replays):
+                wp.capture_launch(graph)
+            for _ in range(rest):
+                frame()
             wp.synchronize()
             cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+            q = s0.particle_q.numpy().astype(float)
     except Exception as e:  # noqa: BLE001 - a failing peer is a row, not a failed bench
-        return row(f"failed: {type(e).__name__}: {' '.join(str(e).split())[:160]}")
+        return run(f"failed: {type(e).__name__}: {' '.join(str(e).split())[:160]}")
     finally:
         wp.config.log_level = log_level
-    q = s0.particle_q.numpy()
-    drop = float(q[pinned, 2].mean() - q[:, 2].min()) if np.isfinite(q).all() else math.nan
-    expected = min(0.5 * cfg.g * (frames * dt) ** 2, float(cfg.size[1]))
-    if not np.isfinite(q).all():
+    return run("ran", cpu, wall, compile_s, q)
+
+
+def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:
+    """One newton solver ("vbd" or "style3d") on the hanging cloth of nodes x nodes particles for t_end seconds, at
+    newton's example settings (:data:`PEERS`)."""
+    peer, substeps, iterations = PEERS[solver]
+    r = run_peer(solver, nodes, 1.0 / FPS, substeps, iterations, t_end)
+    cfg = scenes.config("hanging", nodes=(nodes, nodes))
+    q, drop = r.q, math.nan
+    if q is None:
+        status = r.status
+    elif not np.isfinite(q).all():
         status = "non-finite positions"
-    elif not 0.25 * expected <= drop < 3 * float(cfg.size[1]):
-        status = f"suspect: drop {drop:.3g} m after {frames * dt:g} s (expected about {expected:.3g} m)"
     else:
-        status = "ok"
-    return row(status, frames * substeps, cpu, wall, compile_s, drop)
+        drop = float(q[pinned(nodes), 2].mean() - q[:, 2].min())
+        expected = min(0.5 * cfg.g * r.t_end ** 2, float(cfg.size[1]))
+        if not 0.25 * expected <= drop < 3 * float(cfg.size[1]):
+            status = f"suspect: drop {drop:.3g} m after {r.t_end:g} s (expected about {expected:.3g} m)"
+        else:
+            status = "ok"
+    rate = r.t_end / r.cpu if r.steps and r.cpu > 0 else math.nan
+    return PeerRow(peer, solver, f"{nodes}x{nodes}", nodes * nodes, r.frame_dt, substeps, iterations, t_end, r.steps,
+                   r.cpu, r.wall, rate, r.compile_s, drop, status, NOTE[solver])
 
 
 def bench_peers(nodes: int = 64, t_end: float = 2.0, solvers=("vbd", "style3d")) -> list[PeerRow]:

@@ -104,7 +104,10 @@ def configure(parser) -> None:
                         help="rate and peer rows: seconds of motion (default: 2)")
     parser.add_argument("--peers", action="store_true",
                         help="peer rows: newton's VBD and Style3D (pip install '.[peers]') on the 64 x 64 "
-                        "hanging cloth, beside this project's hanging cloth on FD 64 x 64 nodes (default: off)")
+                        "hanging cloth at their example budgets, beside this project's hanging cloth on FD 64 x 64 "
+                        "nodes, and the three at matched accuracy over 0.1 s (dt 1/60 and 1/600 s, each swept against "
+                        "its own most converged run: bench_accuracy.md, .csv, _levels.csv, .png; about 40 minutes) "
+                        "(default: off)")
     parser.add_argument("--realtime", default=None, metavar="SCENE",
                         help="the real-time rows alone (none of the tables above): a shipped scene stepped, its "
                         "readout taken and rendered off screen as `deformable view --offscreen` does, at 30 frames a "
@@ -116,8 +119,8 @@ def configure(parser) -> None:
                         help="real-time rows: seconds of motion (default: 2)")
     parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
     parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
-                        "bench_self.csv, bench_bar.csv, bench_scenes.csv, bench_rates.csv, bench_peers.csv and "
-                        "bench_realtime.csv (default: reports/bench)")
+                        "bench_self.csv, bench_bar.csv, bench_scenes.csv, bench_rates.csv, bench_peers.csv, "
+                        "bench_accuracy.csv, bench_accuracy_levels.csv and bench_realtime.csv (default: reports/bench)")
 
 
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:
@@ -285,6 +288,11 @@ def _rates(out: Path, jobs, t_end: float, settings, references: bool, peers: boo
         print(f"peer rows: newton's VBD and Style3D on the 64 x 64 hanging cloth, {t_end:g} s", flush=True)
         prows = in_own_process(bench_peers, 64, t_end)
         emit(out / "bench_peers.csv", prows, format_peers)
+        from validation.benches.accuracy import T_END, bench_accuracy
+
+        print(f"matched accuracy: ours, VBD and Style3D on the 64 x 64 hanging cloth over {T_END:g} s, each swept "
+              "against its own most converged run (tens of minutes)", flush=True)
+        bench_accuracy(out, progress=print)
     if rows:
         lines = verdicts(rows, prows)
         print("\n".join(lines))
