@@ -42,11 +42,15 @@ factorisation, 3.8 -> 1.8 ms a solve, FD 128 x 128 283 -> 170 ms. Each solve is 
 right-hand side (Wilkinson's iterative refinement, as in Buttari et al. 2007, "Mixed precision iterative
 refinement techniques for the solution of dense linear systems"), a Newton direction as inexact as a forcing
 term of 1e-5 allows (Dembo, Eisenstat and Steihaug 1982): the FD curtain's single-precision solves mostly meet it
-unrefined (relative residuals 1e-6 to 2e-6), and where a matrix is too ill-conditioned for
-single precision (FE's Hermite matrices of a small strip did not converge) the solver turns to double precision
-for good, so a direction is never worse than that. The curtain's iterations and factorisations a step (1.77
-and 1.09 at FD 48 x 48 over 0.5 s) did not change. Equilibrium's matrices have no inertia to bound their
-condition (a shell's bending against its membrane) and are factorised in double precision from the start.
+unrefined (relative residuals 1e-6 to 2e-6), and where a matrix is too ill-conditioned for single precision
+(refinement does not converge in two steps) the solver turns to double precision for good, so a direction is
+never worse than that. A float32 Cholesky that meets a non-positive pivot proves nothing of a matrix
+whose condition exceeds 1e7 (an FE sheet 1e-12 times lighter than its stiffness: 2e13): Newton takes it for
+indefinite and falls back to its definite matrix, positive definite by construction, and where that one fails too
+in single precision, :meth:`Pardiso.double` turns to double precision for good
+(:mod:`deformable.solve.directions`); shifting it instead made a direction 1e8 times too short. The curtain's
+iterations and factorisations a step (1.77 and 1.09 at FD 48 x 48 over 0.5 s) did not change. Equilibrium's
+matrices have no inertia to bound their condition (a shell's bending against its membrane) and are factorised in double precision from the start.
 
 Two thread pools. PARDISO runs on MKL's threads, numpy's own products on
 OpenBLAS's; after a product OpenBLAS's idle threads keep spinning for a while,
@@ -139,6 +143,10 @@ class SuperLU:
     cost_ratio = None
     single = False
 
+    def double(self) -> bool:
+        """Already in double precision (:meth:`Pardiso.double`)."""
+        return False
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         """A^-1 b for b (n,) or (n, k)."""
         return self._lu.solve(np.asarray(b, float))
@@ -187,6 +195,7 @@ class Pardiso:
         self._upper = None  # (indptr, indices) of the analysed upper triangle, kept alive for MKL
         self._n = 0
         self._data = None  # the factorised values (MKL reads them again in the solves)
+        self._exact = None  # the last matrix's values in double precision (the refinement's products)
         i32 = ctypes.POINTER(ctypes.c_int32)
         self._fixed = (s.pt.ctypes.data_as(ctypes.POINTER(s._pt_type[0])), ctypes.byref(ctypes.c_int32(1)),
                        ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(s.mtype)))
@@ -228,8 +237,9 @@ class Pardiso:
         else:
             exact = self._scipy_upper(A)
         data = exact.astype(self._dtype) if self.single else exact
+        self._exact = exact
         self._call(22, data, self._empty, self._empty)  # Cholesky (type 2) stops at a non-positive pivot: error -4
-        self._data, self._exact = data, exact
+        self._data = data
         return self
 
     @property
@@ -244,15 +254,23 @@ class Pardiso:
         d[self._diagonal[0]] = self._exact[self._diagonal[1]]
         return U @ x + U.T @ x - d[:, None] * x
 
-    def _double(self) -> None:
-        """Single precision does not resolve this problem's matrices (refinement did not converge): double
-        precision from now on, the matrix at hand analysed and factorised again."""
+    def double(self) -> bool:
+        """Single precision does not resolve this problem's matrices (refinement did not converge, or a matrix
+        positive definite by construction lost a pivot in float32): double precision from now on, the matrix at
+        hand analysed and factorised again: True where that was done (False where it already was in double
+        precision, or had no matrix at hand)."""
+        if not self.single:
+            return False
         self.single = False
         self._solver.iparm[27] = 0
         self._empty = np.zeros(1)
+        if self._exact is None:
+            return False
+        self._call(-1, self._empty, self._empty, self._empty)  # MKL's state, after a failed phase too: released
         self._call(11, self._exact, self._empty, self._empty)
         self._call(22, self._exact, self._empty, self._empty)
         self._data = self._exact
+        return True
 
     def _scipy_upper(self, A) -> np.ndarray:
         """The data of a scipy matrix's upper triangle, analysing its pattern when it is new."""
@@ -299,7 +317,7 @@ class Pardiso:
                     break
                 x += self._solve(r)
             else:
-                self._double()
+                self.double()
                 x = self._solve(B)
         return np.ascontiguousarray(x).reshape(b.shape)
 
@@ -333,6 +351,12 @@ class Auto:
     @property
     def single(self) -> bool:
         return self._single if self._solver is None else self._solver.single
+
+    def double(self) -> bool:
+        if self._solver is None:
+            self._single = False
+            return False
+        return self._solver.double()
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self._solver.solve(b)

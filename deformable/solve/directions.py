@@ -150,10 +150,20 @@ class Directions:
                 self.solver.factor(A if not shift else A.shifted(shift * scale))
                 break
             except SingularMatrix:
-                continue
+                if not shift and self._in_double():
+                    break
         else:
             raise SingularMatrix("the Newton matrix stays singular under a Levenberg-Marquardt shift")
         self._counted(report, t0)
+
+    def _in_double(self) -> bool:
+        """A single-precision factorisation lost a pivot of a matrix meant to be positive definite: round-off of
+        float32, no proof of indefiniteness. True where the solver, turned to double precision for good, factorised
+        it (module docstring of :mod:`deformable.algebra.solvers`, "Single precision")."""
+        try:
+            return self.solver.double()
+        except SingularMatrix:
+            return False
 
     def _counted(self, report, t0: float) -> None:
         seconds = time.perf_counter() - t0

@@ -78,3 +78,25 @@ def test_openblas_keeps_one_thread_while_a_solver_loop_runs():
         inside = openblas_threads()
     assert openblas_threads() == before
     assert inside == [1] * len(before)
+
+
+@pytest.mark.skipif("pardiso" not in linalg.available(), reason="PARDISO (pypardiso) is not installed")
+def test_single_precision_that_loses_a_pivot_turns_to_double_precision_for_good(rng):
+    """A positive definite matrix whose condition float32 cannot hold (the block [[1 + e, 1], [1, 1 + e]],
+    e = 1e-9, which float32 rounds to a singular one: a zero pivot): single precision's Cholesky refuses it, as it
+    would an indefinite one; ``double()`` factorises the same matrix in double precision, solves it to round-off,
+    and stays there. A matrix refused in double precision too is still refused."""
+    e = 1e-9
+    A = sp.block_diag([np.array([[1 + e, 1.0], [1.0, 1 + e]]), laplacian(12, 0.5)], format="csr")
+    n = A.shape[0]
+    assert np.min(np.linalg.eigvalsh(A.toarray())) > 0
+    s = make_solver("pardiso", definite=True, single=True)
+    with pytest.raises(SingularMatrix):
+        s.factor(A)
+    assert s.double() and not s.single and not s.double()
+    b = rng.normal(size=n)
+    x = s.solve(b)
+    assert np.max(np.abs(A @ x - b)) < 1e-6 * np.abs(b).max()
+    np.testing.assert_allclose(x, spla.spsolve(A.tocsc(), b), rtol=1e-6)
+    with pytest.raises(SingularMatrix):
+        s.factor(laplacian(12, -3.3))
