@@ -135,6 +135,11 @@ def verdicts(rows, peers=()) -> list[str]:
                  f"{up[key]:.2f}x", f">= {target:g}x", up[key] >= target)
         else:
             out.append(f"curtain FD {grid} nodes: not measured in this run")
+    r = _find(rows, "curtain", "fd", "256x256")
+    if r is not None:  # the fine grid's price (docs/design.md, "The price of a step")
+        line(f"curtain FD 256x256 nodes, {r.t_reached:g} of {r.t_end:g} s under defaults, CPU per simulated second "
+             f"(peak memory {r.peak_mb:.0f} MB)", f"{r.cpu / r.t_reached / 60:.1f} min" if r.t_reached > 0 else "nan",
+             "<= 10 min", bool(r.status == "finished" and r.t_reached > 0 and r.cpu / r.t_reached <= 600))
     for scene in ("curtain", "flag", "sphere"):
         r = _find(rows, scene, "fd", "64x64")
         if r is None:

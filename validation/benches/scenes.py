@@ -12,20 +12,17 @@ few steps.
 
 from __future__ import annotations
 
-import contextlib
-import os
 import time
 from dataclasses import dataclass
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from deformable import scenes
 from deformable.dynamics import TimeStepper
 from validation.harness.backends import make_model
 from validation.harness.report import markdown_table
 
-from .measure import grid_label, peak_memory, scene_config
+from .measure import grid_label, one_thread as hold_one_thread, peak_memory, scene_config
 
 __all__ = ["SceneRow", "bench_scene", "run_scene", "format_scenes"]
 
@@ -55,16 +52,16 @@ def run_scene(scene: str, backend: str, n: int, t_end: float, newton: dict | Non
               one_thread: bool = False):
     """Run a shipped scene (energy-consistent, implicit Euler at ``dt_factor`` times its own dt) for t_end seconds
     on n nodes (FD) or n elements (FE) a side, in this process: (its SceneRow, the final positions (ndof, 3)).
-    ``one_thread``: every thread pool held to one thread (MKL, OpenBLAS, the Hessian's blocks)."""
+    ``one_thread``: every thread pool held to one thread for good (:func:`.measure.one_thread`: MKL, OpenBLAS, the
+    Hessian's blocks, the IPC Toolkit's TBB threads; before, TBB's were not, and their time counted)."""
     cfg = scene_config(scene, backend, n)
     model = make_model(scenes.build(cfg), backend)
     stepper = TimeStepper(model, cfg.dt * dt_factor, newton=newton)
-    if one_thread:
-        os.environ["OMP_NUM_THREADS"] = "1"  # the Hessian's blocks (deformable.physics.integrand.hessian_threads)
-    with threadpool_limits(1) if one_thread else contextlib.nullcontext():
-        t0, c0 = time.perf_counter(), time.process_time()
-        result = stepper.run(model.initial_state(), t_end=t_end)
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    if one_thread:  # for good: the rows that ask run in a process of their own
+        hold_one_thread()
+    t0, c0 = time.perf_counter(), time.process_time()
+    result = stepper.run(model.initial_state(), t_end=t_end)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     reports = stepper.newton_reports
 
     def per_step(name):

@@ -33,7 +33,8 @@ def test_bench_writes_both_tables_and_csvs_for_both_backends(tmp_path, capsys):
     assert [(r["backend"], r["grid"]) for r in implicit] == [("fd", "8x8"), ("fe", "4x4")]
     for r in implicit:
         its = float(r["newton_per_step"])
-        assert its >= 1 and float(r["factorisations_per_step"]) > 0 and int(r["steps"]) == 3  # 0.02 s at 5 ms, the first step untimed
+        # 0.02 s at 5 ms, the first step untimed
+        assert its >= 1 and float(r["factorisations_per_step"]) > 0 and int(r["steps"]) == 3
         kernels = {k: float(r[k]) for k in ("energy", "gradient", "hessian", "factor", "solve")}
         assert all(v > 0 for v in kernels.values())
         floor = kernels["hessian"] + kernels["factor"] + its * (kernels["solve"] + kernels["gradient"])
@@ -195,6 +196,13 @@ def test_the_rate_verdicts_follow_the_numbers():
     assert "sphere FD 64x64 Newton error: not measured in this run" in lines
     slower = verdicts([_rate("curtain", "64x64", "defaults", 0.03), _rate("curtain", "64x64", "ce6e554", 0.02)])
     assert slower[0].endswith("1.50x (target >= 2x): NOT met")
+    # the fine grid: CPU minutes per simulated second against 10, with its peak memory
+    fine = [line for line in verdicts([_rate("curtain", "256x256", "defaults", 1 / 996, t_end=1.0, t_reached=1.0,
+                                             cpu=996.0, peak_mb=5246.0)]) if "FD 256x256 nodes, 1 of 1 s" in line]
+    assert fine == ["curtain FD 256x256 nodes, 1 of 1 s under defaults, CPU per simulated second (peak memory 5246 MB):"
+                    " 16.6 min (target <= 10 min): NOT met"]
+    met = verdicts([_rate("curtain", "256x256", "defaults", 1 / 250, t_end=0.5, t_reached=0.5, cpu=250.0)])
+    assert any("0.5 of 0.5 s" in line and line.endswith("8.3 min (target <= 10 min): met") for line in met)
 
 
 def test_realtime_rows_run_the_view_offscreen_and_append_a_row_a_run(tmp_path, capsys):
