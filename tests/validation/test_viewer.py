@@ -60,21 +60,21 @@ def test_a_slider_retunes_the_running_stepper_and_keeps_its_solver():
 
 
 def test_the_readout_reuses_its_compatibility_test_and_says_when_it_was_taken(monkeypatch):
-    calls = []
+    calls = []  # two a test: the state at h and at 2h
     monkeypatch.setattr(viewer, "check_compatibility", lambda *a: calls.append(1) or _compatibility(*a))
     s = _session()
     first = s.readout(every=0.2)
     s.advance(0.1)
     reused = s.readout(every=0.2)  # 0.1 s later: the test at t = 0 shown as such
-    assert len(calls) == 1 and reused.tested_at == 0.0 and reused.t == pytest.approx(0.1)
-    assert (reused.ratio, reused.cosine, reused.residual) == (first.ratio, first.cosine, first.residual)
-    assert "compatibility (eq. 10) at t = 0.000 s:" in reused.text() and reused.kinetic > first.kinetic
+    assert len(calls) == 2 and reused.tested_at == 0.0 and reused.t == pytest.approx(0.1)
+    assert (reused.mismatch, reused.mismatch_2h) == (first.mismatch, first.mismatch_2h)
+    assert "the state (at t = 0.000 s): a surface" in reused.text() and reused.kinetic > first.kinetic
     s.advance(0.15)
     fresh = s.readout(every=0.2)  # 0.25 s on: taken anew, on this state
-    assert len(calls) == 2 and fresh.tested_at == fresh.t and "compatibility (eq. 10):" in fresh.text()
-    assert s.readout() == fresh and len(calls) == 3  # every = 0: always anew (the same numbers, the same state)
+    assert len(calls) == 4 and fresh.tested_at == fresh.t and "the state: a surface" in fresh.text()
+    assert s.readout() == fresh and len(calls) == 6  # every = 0: always anew (the same numbers, the same state)
     s.reset()
-    assert s.readout(every=0.2).tested_at == 0.0 and len(calls) == 4  # not a test from before the reset
+    assert s.readout(every=0.2).tested_at == 0.0 and len(calls) == 8  # not a test from before the reset
 
 
 def _compatibility(*args):
@@ -92,7 +92,7 @@ def test_frames_in_turn_sit_at_the_frame_times_and_take_commands_at_once(monkeyp
         assert p.produce()
         assert p.latest.serial == k and p.latest.readout.t == pytest.approx(k / 30, abs=5e-3)  # 5 ms steps
     assert p.latest.readout.t == pytest.approx(1.0)  # 30 frames: a simulated second (not 30 x 7 steps)
-    assert 5 <= len(calls) <= 6  # t = 0 and then every 0.2 s or so of the 1 s: not 31
+    assert 10 <= len(calls) <= 12  # t = 0 and then every 0.2 s or so of the 1 s, at h and 2h: not 62
     gamma = p.session.value("gamma")
     p.submit("set", "gamma", 30 * gamma)  # no thread: applied at once, and a frame says so
     assert p.latest.values["gamma"] == 30 * gamma and p.session.stepper is stepper
@@ -147,12 +147,30 @@ def test_the_producer_thread_takes_commands_between_steps_paces_itself_and_stops
 
 
 def test_the_readout_states_energy_stretch_and_the_compatibility_test():
-    s = _session()
+    s = Session(scenes.config("hanging", nodes=(12, 12)), "fd")
     s.advance(0.1)
     r = s.readout()
-    assert r.elastic > 0 and r.kinetic > 0 and 0 < r.stretch < 1 and r.verdict in ("compatible", "INCOMPATIBLE")
-    assert (r.ratio is None) == (r.cosine is None)
-    assert "compatibility (eq. 10)" in r.text() and "largest stretch" in r.text()
+    assert r.elastic > 0 and r.kinetic > 0 and 0 < r.stretch < 1 and r.rest == "compatible"
+    assert r.mismatch >= 0 and r.mismatch_2h is not None and r.mismatch_2h >= 0 and not r.note
+    assert "compatibility (eq. 10): rest state G0, B0 compatible" in r.text() and "largest stretch" in r.text()
+    assert f"mismatch {r.mismatch:.3g} at h, {r.mismatch_2h:.3g} at 2h" in r.text()
+
+
+def test_a_running_curtain_is_a_surface_and_a_rest_state_no_surface_has_is_incompatible():
+    """The shipped curtain at 20 x 20 fails the paper's test at every deformed state (its folds unresolved,
+    module docstring): its readout never calls it incompatible, and shows the test's own error instead. A rest
+    curvature (2, 2) 1/m on the flat metric is no surface's: the readout says so, while the sheet runs."""
+    p = Producer(Session(scenes.config("curtain", nodes=(20, 20)), "fd"), fps=10, readout_every=0.1)
+    texts = []
+    for _ in range(5):  # 0.5 s
+        assert p.produce()
+        texts.append(p.latest.readout.text())
+        assert p.latest.readout.mismatch > 0.05  # the discrete test alone would call it incompatible
+    assert all("INCOMPATIBLE" not in t and "rest state G0, B0 compatible" in t and "a surface" in t for t in texts)
+    with pytest.warns(dm.IncompatibleRestState):
+        s = Session(scenes.config("hanging", nodes=(12, 12), rest_curvature=(2.0, 2.0)), "fd")
+    r = s.readout()
+    assert r.rest.startswith("INCOMPATIBLE") and "rest state G0, B0 INCOMPATIBLE (no surface has them)" in r.text()
 
 
 def test_offscreen_frames_write_a_screenshot(tmp_path, capsys):
@@ -263,5 +281,23 @@ def test_the_window_draws_while_the_simulation_runs_in_its_own_thread(display):
 
 def test_the_readout_says_where_the_compatibility_test_refuses_the_grid():
     r = Session(scenes.config("hanging", nodes=(5, 5)), "fd").readout()  # the test needs 6 nodes a side
-    assert r.ratio is None and np.isnan(r.residual) and "margin" in r.verdict
-    assert f"compatibility (eq. 10): not computed ({r.verdict})" in r.text()
+    assert np.isnan(r.mismatch) and r.mismatch_2h is None and "margin" in r.note
+    assert f"the state: not computed ({r.note})" in r.text()
+
+
+def test_the_force_scale_moves_the_shown_mu_and_gamma_with_it():
+    """Section 3.1: f multiplies mu, gamma and every force; the mu and gamma sliders show the values in effect."""
+    from validation.viewer import Window
+
+    window = Window(_session(), offscreen=True, fps=30)
+    mu, gamma = window.session.value("mu"), window.session.value("gamma")
+    titles = {name: w.GetRepresentation() for name, (_, w) in window.sliders.items()}
+    assert titles["mu"].GetTitleText() == f"mu (kg/m^2) = {mu:.3g}"
+    window.move("scale", 2.0)
+    for _ in range(2):
+        window.frame()
+    assert window.session.value("scale") == pytest.approx(2.0) and window.session.value("mu") == mu
+    assert titles["mu"].GetTitleText() == f"mu (kg/m^2) = {2 * mu:.3g} (f x {mu:.3g})"
+    assert titles["gamma"].GetTitleText() == f"gamma (kg/(m^2 s)) = {2 * gamma:.3g} (f x {gamma:.3g})"
+    assert titles["scale"].GetTitleText() == "force scale f (x) = 2: mu, gamma, forces"
+    window.plotter.close()
