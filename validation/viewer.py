@@ -116,6 +116,8 @@ class Readout:
     note: str
     status: str
     tested_at: float
+    dt: float = math.nan
+    stable: float = math.inf
 
     def text(self) -> str:
         at = "" if self.tested_at == self.t else f" (at t = {self.tested_at:.3f} s)"
@@ -128,7 +130,14 @@ class Readout:
                 f"energy: elastic {self.elastic:.4g} J, kinetic {self.kinetic:.4g} J\n"
                 f"largest stretch {100 * self.stretch:.2f} %\n"
                 f"compatibility (eq. 10): rest state G0, B0 {self.rest}\n"
-                f"  the state{at}: {state}")
+                f"  the state{at}: {state}" + self._stability())
+
+    def _stability(self) -> str:
+        """Where the scheme has a stable step (the paper's semi-implicit scheme, section 2.3): dt against it."""
+        if not math.isfinite(self.stable):
+            return ""
+        return (f"\nstable step of the semi-implicit scheme {1e3 * self.stable:.3g} ms (h sqrt(mu / (2 eta G))): "
+                f"dt = {1e3 * self.dt:.3g} ms")
 
 
 @dataclass(frozen=True)
@@ -186,6 +195,7 @@ class Session:
         self.model = make_model(scenes.build(config), self.backend)
         self.rest = rest_verdict(self.model.scene)
         self.stepper = dm.TimeStepper(self.model, backend_dt(self.model, config.dt))
+        self.stable = self._stable_step()
         self.X0 = self.model.initial_state()
 
     def set(self, **values) -> None:
@@ -208,6 +218,14 @@ class Session:
             stepper.start(self.stepper.reference)  # the constraints' reference positions, as at the start
             self.stepper = stepper
         self.config, self.model = config, model
+        self.stable = self._stable_step()
+
+    def _stable_step(self) -> float:
+        """The stable step (s) of the stepper's scheme: the backend's bound where the scheme is the paper's
+        semi-implicit one (eq. (25)), inf where it has none (implicit schemes)."""
+        from deformable.dynamics.scheme import Scheme
+
+        return math.inf if Scheme.lookup(self.stepper.scheme).implicit else float(self.model.stable_step())
 
     def value(self, name: str) -> float:
         return float(getattr(self.config, name))
@@ -258,7 +276,8 @@ class Session:
                                       note=note)
         return Readout(t=t, elastic=float(e.stretching + e.bending), kinetic=float(self.model.kinetic_energy(V)),
                        stretch=float(max(s1.max(), s2.max())), rest=self.rest, mismatch=test.mismatch,
-                       mismatch_2h=test.mismatch_2h, note=test.note, status=self.status, tested_at=test.t)
+                       mismatch_2h=test.mismatch_2h, note=test.note, status=self.status, tested_at=test.t,
+                       dt=self.stepper.dt, stable=self.stable)
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,7 @@
 """``deformable view`` (validation/viewer.py): a slider retunes the running simulation; the simulation's frames,
 in turn or in a thread of its own; the readout's test at most every READOUT_EVERY; the window under Xvfb."""
 
+import math
 import os
 import shutil
 import subprocess
@@ -301,3 +302,15 @@ def test_the_force_scale_moves_the_shown_mu_and_gamma_with_it():
     assert titles["gamma"].GetTitleText() == f"gamma (kg/(m^2 s)) = {2 * gamma:.3g} (f x {gamma:.3g})"
     assert titles["scale"].GetTitleText() == "force scale f (x) = 2: mu, gamma, forces"
     window.plotter.close()
+
+
+def test_the_readout_shows_the_stable_step_where_the_scheme_has_one():
+    """The paper's force runs the semi-implicit scheme, stable below h sqrt(mu / (2 eta G)) (section 2.3): the
+    readout gives it and dt; eta x 4 halves it, and the view takes a new dt below it. The implicit scheme has none."""
+    s = _session(force_model="tpbf87")
+    r = s.readout()
+    assert math.isfinite(r.stable) and r.dt <= r.stable and "stable step of the semi-implicit scheme" in r.text()
+    s.set(eta=4 * s.value("eta"))
+    r4 = s.readout()
+    assert r4.stable == pytest.approx(r.stable / 2, rel=1e-6) and r4.dt <= r4.stable
+    assert math.isinf(_session().readout().stable) and "stable step" not in _session().readout().text()
