@@ -1,0 +1,73 @@
+"""The README's numbers that a committed report measured are read from that report: a test fails when they drift.
+
+Each claim names the report, the quantity (read from its results.json, as the study computed it) and the text
+the README states it in. Regenerating a report that moves a number fails this test until the README says the new
+one: a number is never typed twice.
+"""
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+
+
+def results(study: str) -> dict:
+    return json.loads((ROOT / "reports" / study / "results.json").read_text())
+
+
+def paper_fold_ratios() -> list[str]:
+    """The paper study's fold wavelength of `paper` over `curtain-silky`, FD and FE (section 5, Fig. 6)."""
+    ratio = results("paper")["data"]["folds"]["ratio"]
+    return [f"measured {ratio['fd']:.2f} times on FD", f"and {ratio['fe']:.2f} on FE",
+            f"paper's folds are only {ratio['fe']:.2f} times the silky curtain's on FE ({ratio['fd']:.2f} on FD)"]
+
+
+def mesh_ridge_friction() -> list[str]:
+    """The contact study's effective friction coefficients over a mesh edge in the flat (FD, FE), as its
+    finding computes them from the measured accelerations."""
+    finding = next(f for f in results("contact")["findings"] if "effective friction coefficient of" in f)
+    fd, fe = (float(v) for v in re.search(r"effective friction coefficient of ([\d.]+), ([\d.]+)", finding).groups())
+    return [f"an effective friction coefficient of {fd:.3f} on FD and {fe:.3f} on FE"]
+
+
+def late_drape_spread() -> list[str]:
+    """The contact study's late drape: how far the ball's triangulations (levels 3, 4) moved it (cm)."""
+    late = results("contact")["data"]["mesh_ball_late"]
+    moved = [v["largest"] for k, v in late.items() if k.startswith("level")]
+    assert len(moved) == 2, moved
+    return [f"triangulation (levels 3 and 4) by {100 * min(moved):.0f}-{100 * max(moved):.0f} cm"]
+
+
+def quick_checks() -> list[str]:
+    """The quick report's count of checks, every one of them passed (the README's quick start)."""
+    studies = ["tensors", "modes", "statics", "time", "compatibility", "work", "variational"]
+    passed = sum(results(s)["passed"] for s in studies)
+    failed = sum(results(s)["failed"] for s in studies)
+    return [f"{passed} of {passed + failed} checks"]
+
+
+CLAIMS = [paper_fold_ratios, mesh_ridge_friction, late_drape_spread, quick_checks]
+
+
+@pytest.mark.parametrize("claim", CLAIMS, ids=[c.__name__ for c in CLAIMS])
+def test_the_readme_states_the_number_its_report_measured(claim):
+    text = " ".join(README.read_text().split())  # lines folded as Markdown folds them
+    for phrase in claim():
+        assert phrase in text, f"README.md does not say {phrase!r} ({claim.__doc__.split(':')[0].strip()})"
+
+
+def test_the_params_output_the_readme_quotes_is_what_the_tool_prints(capsys):
+    """README's `deformable params curtain-silky` sentence: the scaled sheet's equivalent eta and xi as printed."""
+    from validation.commands import main
+
+    assert main(["params", "curtain-silky"]) == 0
+    printed = re.search(r"moves as the real one would with (eta = \S+ N/m) and (xi = \S+ N m)", capsys.readouterr().out)
+    assert printed, "deformable params curtain-silky no longer says what scale does"
+    eta, xi = printed.groups()
+    eta_value = eta.split("= ")[1].split(" ")[0]
+    text = " ".join(README.read_text().split())
+    assert f"move as the real sheet would with eta = {eta_value} N/m and {xi}" in text
