@@ -44,13 +44,20 @@ def late_drape_spread() -> list[str]:
 
 def quick_checks() -> list[str]:
     """The quick report's count of checks, every one of them passed (the README's quick start)."""
-    studies = ["tensors", "modes", "statics", "time", "compatibility", "work", "variational"]
+    studies = ["tensors", "modes", "statics", "time", "compatibility", "work", "variational", "fabrics"]
     passed = sum(results(s)["passed"] for s in studies)
     failed = sum(results(s)["failed"] for s in studies)
     return [f"{passed} of {passed + failed} checks"]
 
 
-CLAIMS = [paper_fold_ratios, mesh_ridge_friction, late_drape_spread, quick_checks]
+def fabrics_peirce() -> list[str]:
+    """The fabrics study's largest error of a measured bending length against its source's, FD and FE (%)."""
+    data = results("fabrics")["data"]
+    fd, fe = (100 * max(abs(r["relative_error"]) for r in data[b]) for b in ("fd", "fe"))
+    return [f"within {fd:.2f} % of the sources' on FD and {fe:.2f} % on FE"]
+
+
+CLAIMS = [paper_fold_ratios, mesh_ridge_friction, late_drape_spread, quick_checks, fabrics_peirce]
 
 
 @pytest.mark.parametrize("claim", CLAIMS, ids=[c.__name__ for c in CLAIMS])
@@ -71,3 +78,4 @@ def test_the_params_output_the_readme_quotes_is_what_the_tool_prints(capsys):
     eta_value = eta.split("= ")[1].split(" ")[0]
     text = " ".join(README.read_text().split())
     assert f"move as the real sheet would with eta = {eta_value} N/m and {xi}" in text
+

@@ -23,6 +23,10 @@ nu = 0 has D_12 = D). Any other force model takes the weights with the same line
 multiplied by the variational model's :attr:`~deformable.physics.ForceModel.stiffness` over its own
 (the paper's force (14): eta_11 = T_1 / 2, xi_11 = D_1; :func:`deformable.scenes.equivalent_weights`).
 The nonlinear response differs between the models; this fixes their stiffness about the flat sheet.
+
+Named fabrics measured by others (:mod:`deformable.physics.fabric_presets`: the ten of Wang, O'Brien and
+Ramamoorthi 2011 as ARCSim ships them, and ARCSim's paper estimate): ``Fabric.preset("denim")``, their names
+``Fabric.presets()``.
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from . import fabric_presets
 from .force_models import ForceModel
 from .material import Material
 
@@ -101,6 +106,18 @@ class Fabric:
         D = w g c^3 (Peirce 1930)."""
         c = _pair("bending length", length)
         return cls(density, tuple(density * G * x**3 for x in c), tensile, **kw)
+
+    @classmethod
+    def preset(cls, name: str) -> Fabric:
+        """The named fabric ``name`` (one of :meth:`presets`), derived from its source's values
+        (:mod:`~deformable.physics.fabric_presets`: warp = the source's u, T = 2 c, S = c33 / 2, D_warp the bending
+        about a hinge across the warp); InputError naming the known presets for any other name."""
+        return cls(**fabric_presets.arguments(name))
+
+    @classmethod
+    def presets(cls) -> tuple[str, ...]:
+        """The names of the named fabrics, sorted."""
+        return fabric_presets.names()
 
     @property
     def bending_length(self) -> tuple[float, float]:

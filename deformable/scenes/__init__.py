@@ -44,7 +44,8 @@ apart, as section 4 recommends.
 The scenes, each in its module with how it differs from the paper's text:
 ``hanging`` (:mod:`.cloth`), ``curtain``, ``curtain-silky``, ``paper``
 (:mod:`.curtain`, Figs 3-6), ``flag`` (:mod:`.flag`, Figs 7-8), ``floor``,
-``sphere``, ``drape`` (:mod:`.contact`), ``coil`` (:mod:`.strip`). A new scene
+``sphere``, ``drape`` (:mod:`.contact`), ``coil`` (:mod:`.strip`), ``panel``,
+``panel-soft`` (:mod:`.panel`, section 3.2, Figs 1-2). A new scene
 is one class: a subclass of :class:`~deformable.scenes.config.SceneConfig` with
 a ``name``, its fields and ``build()`` (examples/custom_scene.py builds a Scene
 directly instead).
@@ -68,6 +69,7 @@ from .curtain import CurtainConfig, PaperConfig, SilkyCurtainConfig, hook_nodes
 from .fields import FieldDoc, config_table, field_docs
 from .files import read_toml, read_toml_text, run_table, to_toml
 from .flag import FlagConfig
+from .panel import PanelConfig, SoftPanelConfig
 from .params import Parameter, Parameters, parameters
 from .registry import (
     SCENES,
@@ -81,6 +83,8 @@ from .registry import (
     flag,
     floor,
     hanging,
+    panel,
+    panel_soft,
     paper,
     sphere,
 )
@@ -92,4 +96,5 @@ __all__ = ["SCENES", "SceneSpec", "SceneConfig", "HangingConfig", "CurtainConfig
            "FlagConfig", "FloorConfig", "SphereConfig", "DrapeConfig", "CoilConfig", "config", "build", "read_toml",
            "read_toml_text", "to_toml", "run_table", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
            "sphere", "drape", "coil", "equivalent_weights", "fold_wavelength", "parameters", "Parameters", "field_docs",
-           "config_table", "FieldDoc", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes", "VERTICAL", "HORIZONTAL"]
+           "config_table", "FieldDoc", "Parameter", "smooth_ramp", "FoldNoise", "hook_nodes", "VERTICAL", "HORIZONTAL",
+           "PanelConfig", "SoftPanelConfig", "panel", "panel_soft"]

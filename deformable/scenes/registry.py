@@ -21,10 +21,11 @@ from .config import SceneConfig
 from .contact import DrapeConfig, FloorConfig, SphereConfig  # noqa: F401
 from .curtain import CurtainConfig, PaperConfig, SilkyCurtainConfig  # noqa: F401
 from .flag import FlagConfig  # noqa: F401
+from .panel import PanelConfig, SoftPanelConfig  # noqa: F401
 from .strip import CoilConfig  # noqa: F401
 
 __all__ = ["SCENES", "SceneSpec", "config", "build", "hanging", "curtain", "curtain_silky", "paper", "flag", "floor",
-           "sphere", "drape", "coil"]
+           "sphere", "drape", "coil", "panel", "panel_soft"]
 
 
 @dataclass(frozen=True)
@@ -143,3 +144,15 @@ def drape(nodes=None, **fields_) -> Scene:
 def coil(nodes=None, **fields_) -> Scene:
     """A 0.6 m x 0.04 m strip dropped end first onto the floor, folding onto itself (:class:`CoilConfig`)."""
     return SCENES["coil"](nodes, **fields_)
+
+
+def panel(nodes=None, **fields_) -> Scene:
+    """Section 3.2, Fig. 1: a 1 m square, border pinned, under a 10 Pa pressure, eta = 2e4 N/m: stays nearly flat
+    (:class:`PanelConfig`, :mod:`deformable.scenes.panel`)."""
+    return SCENES["panel"](nodes, **fields_)
+
+
+def panel_soft(nodes=None, **fields_) -> Scene:
+    """Fig. 2: the panel with eta = 20 N/m, 1000 times softer in stretching: stretches and bulges
+    (:class:`SoftPanelConfig`)."""
+    return SCENES["panel-soft"](nodes, **fields_)

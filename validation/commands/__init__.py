@@ -1,5 +1,5 @@
-"""The ``deformable`` command line: ``scenes``, ``run``, ``params``, ``view``, ``check``, ``validate``, ``bench`` and
-``sweep``.
+"""The ``deformable`` command line: ``scenes``, ``run``, ``params``, ``view``, ``check``, ``validate``, ``bench``,
+``sweep`` and ``fabrics``.
 
 Each subcommand lives in its own module, which provides ``configure(parser)``
 and ``execute(args) -> int``. Bad input anywhere (a ValueError raised by the
@@ -33,6 +33,7 @@ COMMANDS = {
     "validate": ("validation.commands.validate", "run validation studies and write reports"),
     "bench": ("validation.commands.bench", "time the time step of each backend"),
     "sweep": ("validation.commands.sweep", "run a scene over a grid of config values; one table (and a map)"),
+    "fabrics": ("validation.commands.fabrics", "the named fabrics: density, tensile, bending, bending length, source"),
 }
 
 

@@ -5,13 +5,14 @@ Each module defines one :class:`~validation.harness.study.Study` as ``STUDY``.
 
 from __future__ import annotations
 
-from . import compatibility, contact, cross, modes, paper, shells, statics, temporal, tensors, variational, work
+from . import (compatibility, contact, cross, fabrics, modes, paper, shells, statics, temporal, tensors, variational,
+               work)
 
 __all__ = ["STUDIES", "get_study"]
 
 #: name -> Study, in the order ``deformable validate`` runs them
 STUDIES = {m.STUDY.name: m.STUDY for m in (tensors, modes, statics, cross, temporal, compatibility, work,
-                                           variational, paper, contact, shells)}
+                                           variational, paper, contact, shells, fabrics)}
 
 
 def get_study(name: str):

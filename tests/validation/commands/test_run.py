@@ -282,7 +282,8 @@ def test_every_option_of_every_command_states_its_default():
             if action.option_strings and action.nargs != 0:
                 if "default" not in HelpFormatter(name)._get_help_string(action):
                     missing.append(f"{name} {action.option_strings[-1]}")
-    assert set(subs) == {"scenes", "run", "view", "params", "check", "validate", "bench", "sweep"} and missing == [], missing
+    assert set(subs) == {"scenes", "run", "view", "params", "check", "validate", "bench", "sweep",
+                         "fabrics"} and missing == [], missing
 
 
 def test_quiet_prints_nothing_but_errors(tmp_path, capsys):
