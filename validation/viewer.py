@@ -118,6 +118,7 @@ class Readout:
     tested_at: float
     dt: float = math.nan
     stable: float = math.inf
+    fabric: str = ""
 
     def text(self) -> str:
         at = "" if self.tested_at == self.t else f" (at t = {self.tested_at:.3f} s)"
@@ -126,7 +127,8 @@ class Readout:
         else:
             coarse = f", {self.mismatch_2h:.3g} at 2h" if self.mismatch_2h is not None else ""
             state = f"a surface; the test's own error, mismatch {self.mismatch:.3g} at h{coarse}"
-        return (f"t = {self.t:.3f} s   {self.status}\n"
+        fabric = f"   fabric {self.fabric}" if self.fabric else ""
+        return (f"t = {self.t:.3f} s   {self.status}{fabric}\n"
                 f"energy: elastic {self.elastic:.4g} J, kinetic {self.kinetic:.4g} J\n"
                 f"largest stretch {100 * self.stretch:.2f} %\n"
                 f"compatibility (eq. 10): rest state G0, B0 {self.rest}\n"
@@ -207,6 +209,7 @@ class Session:
         semi-implicit scheme's stable step, :func:`validation.harness.backends.backend_dt`) is a stepper built
         anew, on the same constraint reference.
         """
+        values = self._with_fabric(values)
         config = self.config.replace(**values)
         model = make_model(scenes.build(config), self.backend)
         dt = backend_dt(model, config.dt)
@@ -219,6 +222,20 @@ class Session:
             self.stepper = stepper
         self.config, self.model = config, model
         self.stable = self._stable_step()
+
+    def _with_fabric(self, values: dict) -> dict:
+        """A change of the named fabric, or of a field it sets, as config changes: ``fabric=""`` is the scene's own
+        material back (its fabric, or its mu, eta, xi and shear); a slider moving mu, eta, xi or shear while a
+        fabric is on leaves the fabric for an isotropic sheet of its warp's values (the sliders' values) and the
+        new one."""
+        own = type(self.config).FABRIC_FIELDS
+        if "fabric" in values and not values["fabric"]:
+            if self.config0.fabric:
+                return {"fabric": self.config0.fabric}
+            return {**{f: getattr(self.config0, f) for f in own}, **values, "fabric": ""}
+        if self.config.fabric and "fabric" not in values and set(values) & set(own):
+            return {**{f: getattr(self.config, f) for f in own}, **values, "fabric": ""}
+        return values
 
     def _stable_step(self) -> float:
         """The stable step (s) of the stepper's scheme: the backend's bound where the scheme is the paper's
@@ -277,7 +294,7 @@ class Session:
         return Readout(t=t, elastic=float(e.stretching + e.bending), kinetic=float(self.model.kinetic_energy(V)),
                        stretch=float(max(s1.max(), s2.max())), rest=self.rest, mismatch=test.mismatch,
                        mismatch_2h=test.mismatch_2h, note=test.note, status=self.status, tested_at=test.t,
-                       dt=self.stepper.dt, stable=self.stable)
+                       dt=self.stepper.dt, stable=self.stable, fabric=self.config.fabric)
 
 
 @dataclass(frozen=True)
@@ -369,7 +386,7 @@ class Producer:
                 try:
                     self.session.set(**{name: value})
                 except InputError as err:  # the frames' values say what is in effect
-                    log.warning("deformable view: %s = %g refused: %s", name, value, err)
+                    log.warning("deformable view: %s = %r refused: %s", name, value, err)
             elif kind == "pause":
                 self.paused = bool(args[0])
             elif kind == "reset":
@@ -528,6 +545,7 @@ class Window:
                                   color="black")
             for k, knob in enumerate(knobs):
                 self._slider(knob, x0, 0.79 - 0.1 * k)
+        self._fabric_menu(size)
         self.readout_text = self.plotter.add_text(frame.readout.text(), position="upper_left", font_size=9,
                                                   color="black", name="readout")
         self._drawn = frame.serial
@@ -550,6 +568,35 @@ class Window:
                                            pointa=(x0, y), pointb=(x0 + 0.26, y), style="modern",
                                            interaction_event="end", fmt=" ", title_height=0.018, title_color="black")
         self.sliders[knob.name] = (knob, w)
+
+    #: the fabric menu's first entry: the scene's own material
+    OWN = "scene's own"
+
+    def _fabric_menu(self, size) -> None:
+        """A menu of the named fabrics (a text slider, lower left): the scene's own material or a preset, whose
+        density and warp and weft weights the running simulation takes (:meth:`Session._with_fabric`)."""
+        names = [self.OWN, *dm.Fabric.presets()]
+        self._fabric = self.session.config.fabric or self.OWN
+
+        def chosen(name):
+            if name != self._fabric:  # (pyvista calls it once as the widget is made: nothing chosen)
+                self._fabric = name
+                self.set("fabric", "" if name == self.OWN else name)
+
+        self.plotter.add_text("fabric", position=(int(0.02 * size[0]), int(0.33 * size[1])), font_size=10,
+                              color="black")
+        self.fabric_menu = self.plotter.add_text_slider_widget(chosen, names, value=names.index(self._fabric),
+                                                               pointa=(0.02, 0.28), pointb=(0.28, 0.28),
+                                                               style="modern", interaction_event="end",
+                                                               color="black")
+
+    def choose(self, name: str) -> None:
+        """Choose a fabric in the menu as a hand would (its widget's value, then its end-of-interaction event)."""
+        import vtk
+
+        names = [self.OWN, *dm.Fabric.presets()]
+        self.fabric_menu.GetRepresentation().SetValue(names.index(name))
+        self.fabric_menu.InvokeEvent(vtk.vtkCommand.EndInteractionEvent)
 
     @staticmethod
     def _title(knob: Knob, values: dict) -> str:

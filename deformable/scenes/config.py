@@ -95,6 +95,11 @@ class SceneConfig(Registered, family="scene"):
         Obstacles besides the scene's own, [[obstacles]] tables in a scene file (-).
     contact : Contact or None
         How the sheet meets the obstacles, a [contact] table; None: Contact() (-).
+    fabric : str
+        A named fabric (``deformable fabrics``; :meth:`deformable.Fabric.preset`), its warp along a1; "" none (-).
+        Its areal density is mu and its warp and weft weights under the force model replace eta, xi and shear
+        (:meth:`deformable.Fabric.weights`; the fields mu, eta and xi then show its density and its warp's
+        weights); ``scale`` scales it as it scales any sheet. Exclusive with mu, eta, xi and shear.
     """
 
     size: tuple = (1.0, 1.0)
@@ -116,6 +121,7 @@ class SceneConfig(Registered, family="scene"):
     rest_shape: dict | None = None
     obstacles: tuple = ()
     contact: Contact | None = None
+    fabric: str = ""
     #: fields that must be positive, and non-negative (subclasses add theirs)
     POSITIVE: ClassVar[tuple] = ("dt", "t_end", "mu", "scale")
     NON_NEGATIVE: ClassVar[tuple] = ("gamma", "eta", "xi", "alpha", "beta")
@@ -144,6 +150,8 @@ class SceneConfig(Registered, family="scene"):
                                                        for k, t in enumerate(tables)))
             elif f.name == "rest_shape":
                 continue  # checked below, once size is
+            elif f.name == "fabric":
+                continue  # below, once force_model is checked
             elif f.name == "contact":
                 if value is not None:
                     object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
@@ -200,6 +208,8 @@ class SceneConfig(Registered, family="scene"):
                 raise InputError("scene field rest_shape names the rest surface; it cannot be given with rest_metric "
                                  "or rest_curvature", field="rest_shape", value=self.rest_shape)
             object.__setattr__(self, "rest_shape", rest_shape_from_table(self.rest_shape, self.size).table)
+        if self.fabric != "":
+            self._take_fabric()
         direct = self._weights_given()
         if direct and not (self.alpha > 0 or self.beta > 0):
             raise InputError(f"scene fields alpha and beta: the {self.force_model} force model needs alpha > 0 or "
@@ -209,6 +219,29 @@ class SceneConfig(Registered, family="scene"):
             raise InputError(f"scene fields alpha = {self.alpha!r}, beta = {self.beta!r} are the frozen model's "
                              f"weights; the {self.force_model} model takes eta and xi (set force_model = \"frozen\")",
                              field="alpha", value=self.alpha)
+
+    #: the fields a named fabric sets (:attr:`fabric`)
+    FABRIC_FIELDS: ClassVar[tuple] = ("mu", "eta", "xi", "shear")
+
+    def _take_fabric(self) -> None:
+        """mu, eta, xi and shear from the named fabric: its density, its warp's weights and its shear over the
+        warp's stretching (for display; :meth:`material` takes its full tensors)."""
+        if not isinstance(self.fabric, str):
+            raise InputError(f"scene field fabric must be a fabric's name, got {self.fabric!r}", field="fabric",
+                             value=self.fabric)
+        if self._weights_given():
+            raise InputError(f"scene field fabric: the {self.force_model} model takes its weights alpha and beta "
+                             "directly, not a fabric's", field="fabric", value=self.fabric)
+        eta, xi = self.named_fabric().weights(self.force_model)
+        for name, value in (("mu", self.named_fabric().density), ("eta", eta[0, 0]), ("xi", xi[0, 0]),
+                            ("shear", min(1.0, eta[0, 1] / eta[0, 0]))):
+            object.__setattr__(self, name, float(value))
+
+    def named_fabric(self):
+        """The :class:`deformable.Fabric` of :attr:`fabric` (None without one)."""
+        from ..physics.fabric import Fabric
+
+        return Fabric.preset(self.fabric) if self.fabric else None
 
     def _weights_given(self) -> bool:
         """The force model takes its weights as alpha and beta, given directly (the frozen model, section 3.2)."""
@@ -233,6 +266,12 @@ class SceneConfig(Registered, family="scene"):
     def replace(self, **changes) -> "SceneConfig":
         """A copy with some fields changed; an unknown field is a ValueError naming it."""
         known_keys(changes, sorted(f.name for f in fields(self)), f"for scene {self.scene!r}")
+        fabric = changes.get("fabric", self.fabric)
+        clash = sorted(set(changes) & set(self.FABRIC_FIELDS))
+        if fabric and clash:
+            raise InputError(f"scene fields {', '.join(clash)} and fabric = {fabric!r}: the fabric sets mu, eta, xi "
+                             f"and shear; give one or the other (fabric=\"\" drops it)", field=clash[0],
+                             value=changes[clash[0]])
         if isinstance(changes.get("contact"), dict):  # a [contact] table overrides the scene's own settings
             changes["contact"] = Contact.from_table(changes["contact"], "scene field contact", base=self.contact)
         return dataclasses.replace(self, **changes)
@@ -245,6 +284,9 @@ class SceneConfig(Registered, family="scene"):
         frozen = {}
         if self._weights_given():  # alpha_12 = 0, beta_12 = shear beta (the field docs of SceneConfig)
             frozen = dict(alpha=np.diag([self.alpha, self.alpha]), beta=tensor(self.beta))
+        if self.fabric:  # the fabric's full tensors, warp and weft (the scalar fields show its warp's)
+            eta, xi = self.named_fabric().weights(self.force_model)
+            return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=eta, xi=xi)
         return Material(mu=self.scale * self.mu, gamma=self.scale * self.gamma, eta=tensor(self.eta),
                         xi=tensor(self.xi), **frozen)
 

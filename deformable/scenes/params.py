@@ -147,6 +147,14 @@ def parameters(cfg, model, backend: str) -> Parameters:
             ("E", "Pa", "Young's modulus"), ("nu", "", "Poisson's ratio"), ("h", "m", "thickness"))
             if hasattr(fm, k))
         stiffness = fm.stiffnesses
+    elif getattr(cfg, "fabric", ""):  # a named fabric: its warp (a1) and weft (a2) weights and stiffnesses
+        fabric = cfg.named_fabric()
+        eta, xi = fabric.weights(fm.name)
+        micro = (Parameter("eta", eta[0, 0], eta[0, 0], "N/m", f"stretching weight eta_11 (warp); eta_22 (weft) "
+                           f"{eta[1, 1]:.4g}, eta_12 {eta[0, 1]:.4g} N/m: fabric {cfg.fabric!r}, {fabric.name}"),
+                 Parameter("xi", xi[0, 0], xi[0, 0], "N m", f"bending weight xi_11 (warp); xi_22 (weft) "
+                           f"{xi[1, 1]:.4g}, xi_12 {xi[0, 1]:.4g} N m"))
+        stiffness = (fabric.tensile[0], fabric.bending[0])  # along a1, the warp: the curtain's folds bend it
     else:
         micro = (Parameter("eta", cfg.eta, cfg.eta, "N/m", f"stretching weight eta_11 = eta_22; eta_12 = "
                            f"{cfg.shear:g} eta"),

@@ -314,3 +314,28 @@ def test_the_readout_shows_the_stable_step_where_the_scheme_has_one():
     r4 = s.readout()
     assert r4.stable == pytest.approx(r.stable / 2, rel=1e-6) and r4.dt <= r4.stable
     assert math.isinf(_session().readout().stable) and "stable step" not in _session().readout().text()
+
+
+def test_the_fabric_menu_runs_a_named_fabric_and_a_slider_leaves_it():
+    """The menu's choice is the running simulation's material (its density and warp and weft weights, the sliders
+    showing them); a micro slider then leaves the fabric for an isotropic sheet of the slider's values; the
+    menu's first entry is the scene's own material back."""
+    from validation.viewer import Window
+
+    window = Window(_session(), offscreen=True, fps=30)
+    own = window.session.config
+    stepper = window.session.stepper
+    window.choose("denim")
+    for _ in range(2):
+        window.frame()
+    s, denim = window.session, dm.Fabric.preset("denim")
+    assert s.config.fabric == "denim" and s.value("mu") == denim.density and s.stepper is stepper
+    np.testing.assert_array_equal(s.model.scene.material.eta, denim.weights()[0])
+    assert "fabric denim" in window.producer.latest.readout.text()
+    assert window.sliders["mu"][1].GetRepresentation().GetTitleText() == f"mu (kg/m^2) = {denim.density:.3g}"
+    s.set(eta=2 * s.value("eta"))
+    assert s.config.fabric == "" and s.value("eta") == 2 * denim.weights()[0][0, 0] and s.value("mu") == denim.density
+    window.choose(Window.OWN)
+    window.frame()
+    assert s.config.fabric == "" and (s.value("mu"), s.value("eta")) == (own.mu, own.eta)
+    window.plotter.close()
