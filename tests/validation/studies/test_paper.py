@@ -77,16 +77,23 @@ def test_a_claims_verdict_follows_its_checks():
 
 
 @pytest.mark.slow
-def test_the_quick_paper_study_passes_its_checks_but_the_fe_fold_ratio():
-    """The whole sweep at its quick level (about 23 min on two cores). One check fails as measured (issue 29): with
-    eta = 4000 N/m, so that both sheets stretch little, FE's silky folds coarsen and paper's are only 1.10 times
-    as wide on FE 32 x 32 el. (FD 1.63), outside the window around (16)^(1/4) = 2; the test holds the study to
-    reporting it."""
+def test_the_quick_paper_study_fails_only_the_checks_its_measurements_do_not_support():
+    """The whole sweep at its quick level (about 25 min on two cores). The checks that fail as measured: the FE
+    fold ratio (issue 29: with eta = 4000 N/m FE's silky folds coarsen, paper / silky 1.10 on FE 32 x 32 el.
+    against (16)^(1/4) = 2); the fold-count exponents, not measurable from counts 2, 2, 1 over the one decade of xi
+    the grids resolve; the silky curtain's narrowest late fold, 1 grid spacing on FD 64 x 64 (unresolved where the
+    rod stacks the cloth). The test holds the study to reporting these, and nothing else, as failed."""
     res = STUDY.run(STUDY.levels.minimum)
-    failed = [c for c in res.checks if not c.passed]
-    assert [c.name for c in failed] == ["section 5, paper against curtain-silky: fold wavelength ratio"], \
-        [(c.name, c.observed) for c in failed]
-    assert "FE" in failed[0].observed and "FD" not in failed[0].observed
+    failed = {c.name: c.observed for c in res.checks if not c.passed}
+    allowed = {"section 5, paper against curtain-silky: fold wavelength ratio",
+               "section 5, curtain folds: FD fold count against xi",
+               "section 5, curtain folds: FE fold count against xi",
+               "section 5, Figs 5-6: folds at least 3 grid spacings wide"}
+    assert set(failed) <= allowed, failed
+    for b in ("FD", "FE"):
+        name = f"section 5, curtain folds: {b} fold count against xi"
+        assert name not in failed or failed[name].startswith("not measurable"), failed
+    assert all(c.passed for c in res.checks if "fold wavelength against xi" in c.name)
 
 
 def test_a_count_is_drawn_on_integer_ticks_of_a_linear_axis_and_legends_stay_off_the_data(monkeypatch):

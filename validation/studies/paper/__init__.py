@@ -154,11 +154,13 @@ def fill(res, levels: int, runner) -> None:
                                note="One row per claim; the sections below give the runs. A verdict is computed: "
                                     "'holds' when the claim as written holds on the measurements for every case "
                                     "it states; 'false' when it fails for any of them, with the narrower condition "
-                                    "under which the measurements show it true ('holds only ...'); 'not judged' "
-                                    "for pictures; no verdict when a check of the claim failed. Grids: FD "
+                                    "under which the measurements show it true ('holds only ...'); 'holds where "
+                                    "measured ...; not judged ...' when a case it states has no measurement (a run "
+                                    "that diverged before its analysis window), with what happened to it; 'not "
+                                    "judged' for pictures; no verdict when a check of the claim failed. Grids: FD "
                                     f"{s['fd']} x {s['fd']} nodes, FE {s['fe'] - 1} x {s['fe'] - 1} elements."))
-    res.data["claims"] = [dict(statement=c.statement, literal=c.literal, checks=list(c.checks), verdict=c.verdict)
-                          for c in claims]
+    res.data["claims"] = [dict(statement=c.statement, literal=c.literal, checks=list(c.checks), verdict=c.verdict,
+                               not_judged=c.not_judged) for c in claims]
 
 
 STUDY = Study("paper", "the paper's claims (sections 3-5) reproduced and explained: scaling, micro-control, "

@@ -245,7 +245,8 @@ def _run_shipped(case: Case) -> dict:
     a grid spacing) and the median and largest fibre stretch (every grid segment against its rest length,
     :meth:`deformable.Sheet.fibre_stretch`; ``stretch``: (t, median, largest) tuples); every scene: the
     compatibility test on the state's own G and B (``compatibility``: (t, worst ratio, smallest cosine,
-    fraction resolved) tuples, :func:`_compatibility`). Every step, for the flag: y along the middle row. At ``case.times``: the surface for a
+    fraction resolved) tuples, :func:`_compatibility`). Every step, for the flag: y along the middle row. At
+    ``case.times``: the surface for a
     picture; with ``case.every`` > 0: a frame for the animation every ``case.every`` steps.
     """
     cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **dict(case.fields))
@@ -290,18 +291,21 @@ def _run_shipped(case: Case) -> dict:
     finally:
         logger.setLevel(level)
     return dict(status=result.status, t=result.state.t, steps=result.steps, dt=dt, h=model.spacing[0], Gmax=rec["G"],
-                a=a1, heights=heights, rows=np.array(rec["rows"]), rows_t=np.array(rec["t"]), line=np.array(rec["line"]),
+                a=a1, heights=heights, rows=np.array(rec["rows"]), rows_t=np.array(rec["t"]),
+                line=np.array(rec["line"]),
                 line_t=np.array(rec["line_t"]), renders=rec["renders"], frames=rec["frames"], stretch=rec["stretch"],
                 compatibility=rec["compatibility"],
                 config=dict(xi=cfg.xi, mu=cfg.mu, scale=cfg.scale, g=cfg.g, size=cfg.size, force_model=cfg.force_model,
-                            frequency=getattr(cfg, "frequency", math.nan), draw_time=getattr(cfg, "draw_time", math.nan),
+                            frequency=getattr(cfg, "frequency", math.nan),
+                            draw_time=getattr(cfg, "draw_time", math.nan),
                             ramp=getattr(cfg, "ramp", math.nan)))
 
 
 def scene_cases(s: dict) -> dict:
     """Section 5's cases on the shipped scenes, by role: ("folds", scene, backend, force model, xi) (the curtain's
     xi sweep on the ``folds`` grids, with its own xi among them; curtain-silky and paper at their own xi on the
-    ``silky`` grids), ("flag", backend, force model) on the ``s5`` grids, ("damping", backend, regime, scheme).
+    ``silky`` grids; under the paper's force also at xi = 0), ("flag", backend, force model) on the ``s5`` grids
+    (and ("flag", backend, "tpbf87", 0.0): the paper's force at xi = 0), ("damping", backend, regime, scheme).
     The runs at the scenes' own xi carry the pictures."""
     c: dict = {}
     T = s["s5_t"]
@@ -314,9 +318,11 @@ def scene_cases(s: dict) -> dict:
     xi0 = scenes.config("curtain").xi
     for b, n, nf in zip(("fd", "fe"), s["s5"], s["folds"]):
         for fm in ("variational", "tpbf87"):
-            for xi in sorted({*s["fold_xis"], xi0}):
+            # the paper's force also at section 5's xi = 0, where it is not ill-posed in bending (claim 3)
+            for xi in sorted({*s["fold_xis"], xi0} | ({0.0} if fm == "tpbf87" else set())):
                 c[("folds", "curtain", b, fm, xi)] = run("curtain", b, nf, pictures=xi == xi0, xi=xi, force_model=fm)
             c[("flag", b, fm)] = run("flag", b, n, pictures=fm == "variational", force_model=fm)
+        c[("flag", b, "tpbf87", 0.0)] = run("flag", b, n, force_model="tpbf87", xi=0.0)
     for b, n in zip(("fd", "fe"), s["silky"]):
         for sc in ("curtain-silky", "paper"):
             c[("folds", sc, b, "variational", scenes.config(sc).xi)] = run(sc, b, n, pictures=True)

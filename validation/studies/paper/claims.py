@@ -7,8 +7,12 @@ must all pass for any verdict to be given; a claim without checks has none.
 
 A claim that fails for any case it states is *false*, whatever else holds; its
 ``holds_when`` names the narrower condition under which the measurements show
-it true ("false as stated; holds only ..."). A claim the code cannot judge
-(pictures, to be judged by eye) has ``literal=None`` and the verdict says so.
+it true ("false as stated; holds only ..."). A case the claim states but no
+run measured (a run that diverged before its analysis window, say) is neither
+a pass nor a failure: ``not_judged`` names it, and the verdict says the claim
+holds only where it was measured ("holds where measured (...); not judged
+..."). A claim the code cannot judge at all has ``literal=None`` and the
+verdict says why (by default: pictures, to be judged by eye).
 """
 
 from __future__ import annotations
@@ -33,7 +37,11 @@ class Claim:
         The outcomes of the study's checks of this claim (:func:`checks_of`).
     holds_when : str
         When the literal claim is false: the condition under which the measurements (and the checks) show it
-        true, phrased to follow "holds only ...".
+        true, phrased to follow "holds only ..."; when it holds but ``not_judged`` is given: where it was
+        measured, phrased to follow "holds where measured".
+    not_judged : str
+        The cases the claim states that no measurement judged, and why, phrased to follow "not judged ...";
+        with ``literal=None``: why nothing could be judged.
     """
 
     statement: str
@@ -42,6 +50,7 @@ class Claim:
     literal: bool | None
     checks: tuple = ()
     holds_when: str = ""
+    not_judged: str = ""
 
     @property
     def verdict(self) -> str:
@@ -50,10 +59,13 @@ class Claim:
         if not all(self.checks):
             return f"not shown ({sum(not c for c in self.checks)} of {len(self.checks)} checks failed)"
         if self.literal is None:
-            return "not judged: pictures only, to be judged by eye"
+            return f"not judged: {self.not_judged or 'pictures only, to be judged by eye'}"
+        rest = f"; not judged {self.not_judged}" if self.not_judged else ""
         if self.literal:
-            return "holds"
-        return f"false as stated; holds only {self.holds_when}" if self.holds_when else "false"
+            if not rest:
+                return "holds"
+            return f"holds where measured{f' ({self.holds_when})' if self.holds_when else ''}{rest}"
+        return (f"false as stated; holds only {self.holds_when}" if self.holds_when else "false") + rest
 
     def row(self) -> tuple:
         return (self.statement, self.section, self.measured, self.verdict)

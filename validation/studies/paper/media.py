@@ -105,7 +105,8 @@ def main(argv=None) -> int:
         n = nodes or scenes.config(name).nodes[0]
         run = scene_run(name, n, frames)
         if run["status"] != "finished":
-            print(f"{name}: the run stopped at t = {run['t']:.3g} s ({run['status']}); nothing written", file=sys.stderr)
+            print(f"{name}: the run stopped at t = {run['t']:.3g} s ({run['status']}); nothing written",
+                  file=sys.stderr)
             failed.append(name)
             continue
         gif, png = scene_media(name, run, n)

@@ -73,7 +73,8 @@ def measure(res, R, s) -> list[Claim]:
         hb = max(h1, h2) / min(L1, L2)
         errb = abs(fb["bending"] / e_beta - 1)
         res.check(f"claim 2b, {b.upper()}: frozen beta's residual energy on a cylinder at rest",
-                  f"E = beta kappa^2 L1 L2 / 2 = {e_beta:.3g} J within the discretisation error (2 h / L = {2 * hb:.2f})",
+                  f"E = beta kappa^2 L1 L2 / 2 = {e_beta:.3g} J within the discretisation error (2 h / L = "
+                  f"{2 * hb:.2f})",
                   f"{fb['bending']:.4g} J (relative error {errb:.1e})", errb <= 2 * hb)
         res.check(f"claim 2b, {b.upper()}: the frozen sheet moves with no load",
                   f"max displacement after {p['t_end']:g} s > 1e-3 m (the residual force pulls the free edges in)",
@@ -95,8 +96,8 @@ def measure(res, R, s) -> list[Claim]:
              "rest state, and a free run. The frozen spline's energy is (1/2) integral alpha_ij "
              "r_i . r_j + beta_ij r_ij . r_ij, minimal at a point, not at the rest shape."))
     fa, fx = R[("frozen", "fd", "alpha")], R[("frozen", "fd", "eta-xi")]
-    shear = {b: (R[("hanging", b, "paper (eta_12 = xi_12 = 0)")]["G12_peak"], R[("hanging", b, "eta_12 = eta")]["G12_peak"])
-             for b in BACKENDS}
+    shear = {b: (R[("hanging", b, "paper (eta_12 = xi_12 = 0)")]["G12_peak"],
+                 R[("hanging", b, "eta_12 = eta")]["G12_peak"]) for b in BACKENDS}
     # "reasonable" as written: the simplification changes the shear of the hanging sheet by less than VISIBLE
     same_shear = all(abs(a - b) <= VISIBLE * max(a, b) for a, b in shear.values())
     residual = {b: R[("frozen", b, "alpha")]["stretching"] > 0 and R[("frozen", b, "eta-xi")]["stretching"] == 0
@@ -105,7 +106,8 @@ def measure(res, R, s) -> list[Claim]:
                   f"peak |G12| of the hanging sheet {shear['fd'][0]:.3f} -> {shear['fd'][1]:.3f} (FD), "
                   f"{shear['fe'][0]:.3f} -> {shear['fe'][1]:.3f} (FE) with eta_12 = eta",
                   literal=same_shear, checks=checks_of(res, "claim 2a"),
-                  holds_when="for motions without in-plane shear: eta_12 = 0 leaves it free (its equilibria not unique)"),
+                  holds_when="for motions without in-plane shear: eta_12 = 0 leaves it free (its equilibria not "
+                             "unique)"),
             Claim("alpha, beta given directly induce a residual elastic energy; eta, xi do not", "3.2",
                   f"frozen alpha = 1, flat sheet at rest: E = {fa['stretching']:.3g} J, edges pulled in "
                   f"{fa['displacement']:.2g} m in {FROZEN['t_end']:g} s; eta/xi: E = {fx['stretching']:.0f}, "

@@ -1,4 +1,5 @@
-r"""Claim 3 (sections 3.2 and 5): "too large eta or xi loses equilibrium"; "xi from 0 to 1e-3 changes nothing, above 1e-3 it goes unstable".
+r"""Claim 3 (sections 3.2 and 5): "too large eta or xi loses equilibrium"; "xi from 0 to 1e-3 changes nothing,
+above 1e-3 it goes unstable".
 
 The linearisation (docs/design.md) explains both boundaries:
 
@@ -47,7 +48,7 @@ def measure(res, R, s) -> list[Claim]:
     grids = {"fd": s["fd"], "fe": s["fe"]}
     all_grids = {"fd": s["fd_grids"], "fe": s["fe_grids"]}
     eta_panels, dt_panels, xi_rows, map_rows, dt_rows = [], [], [], [], []
-    xi_checks = []
+    xi_checks, c_ms = [], {}
     for sc in MAP_SCENES:
         cfg = paper_config(sc)
         for b in BACKENDS:
@@ -117,7 +118,8 @@ def measure(res, R, s) -> list[Claim]:
                         below_ok[f"{m} nodes, dt {dt:.3g} ({k})"] = k != "diverged"
                     if dt >= 2 * pred[m]["dt_c1"]:
                         above_ok[f"{m} nodes, dt {dt:.3g} ({k})"] = k != "bounded"
-            c_m = float(np.median([pred[m]["spec"]["lambda_m"] * pred[m]["h"] ** 2 for m in all_grids[b]]))
+            c_m = c_ms[(sc, b)] = float(np.median([pred[m]["spec"]["lambda_m"] * pred[m]["h"] ** 2
+                                                   for m in all_grids[b]]))
             Gm = max(pred[m]["G"] for m in all_grids[b])
             hs = np.geomspace(min(pred[m]["h"] for m in all_grids[b]) / 1.3,
                               max(pred[m]["h"] for m in all_grids[b]) * 1.3, 20)
@@ -150,8 +152,9 @@ def measure(res, R, s) -> list[Claim]:
                       "ill-posed for xi > 0: the smallest diverging xi is lower on the finest grid than on the "
                       "coarsest (xi_c ~ h^4)",
                       ", ".join(f"{m} nodes: {xd:.2g}" for m, xd in these), fine < coarse)
-    res.figures.append(Figure("stability_eta_xi", "Stability over (eta, xi) at the scenes' dt: measured classes and the "
-                              "linearisation's limits eta_c (stretching, lagged alpha) and xi_c (bending, A_t loses "
+    res.figures.append(Figure("stability_eta_xi", "Stability over (eta, xi) at the scenes' dt: measured classes and "
+                              "the linearisation's limits eta_c (stretching, lagged alpha) and xi_c (bending, A_t "
+                              "loses "
                               "definiteness where xi B < 0)", image=map_figure(
                                   eta_panels, "eta (N/m)", "xi (N m)", f"(eta, xi) maps, t = {s['t_map']:g} s",
                                   zero_floor=s["xis"][1] / 5)))
@@ -160,7 +163,8 @@ def measure(res, R, s) -> list[Claim]:
                               image=map_figure(dt_panels, "grid spacing h (m)", "dt (s)",
                                                 f"(dt, h) maps, t = {s['t_map']:g} s")))
     res.tables.append(Table(
-        "xi_limit", "Claim 3 (sections 3.2, 5): the xi limit on each grid against xi_c = mu / (dt^2 max_i B_i lambda_bi)",
+        "xi_limit",
+        "Claim 3 (sections 3.2, 5): the xi limit on each grid against xi_c = mu / (dt^2 max_i B_i lambda_bi)",
         ("scene", "backend", "nodes a side", "h (m)", "lambda_b1 h^4", "lambda_b2 h^4", "B_1 = max(-B11) (1/m)",
          "B_2 = max(-B22) (1/m)", "xi_c predicted",
          "largest xi not diverged", "smallest xi diverged", "smallest xi runaway"), xi_rows,
@@ -204,15 +208,21 @@ def measure(res, R, s) -> list[Claim]:
     changed = ""
     if visible:
         (w_sc, w_b, w_xi), w_d = max(visible.items(), key=lambda kd: kd[1])
-        changed = (f"; the motion changed by {VISIBLE:g} or more from xi = {min(x for _, _, x in visible):g} on "
+        changed = (f"; the motion changed by at least {VISIBLE:g} from xi = {min(x for _, _, x in visible):g} "
                    f"(largest {w_d:.2f}: {w_sc} {w_b.upper()}, xi = {w_xi:g})")
     # as written, too large eta loses equilibrium: unstable runs above some eta, stable below, on every map
     eta_limit = all(checks_of(res, "claim 3a") or (False,))
-    changed = (f"; the motion changed by at least {VISIBLE:g} from xi = {min(x for (_, _, x), d in change.items() if d >= VISIBLE):g} "
-               f"(largest {w_d:.2f}: {w_sc} {w_b.upper()}, xi = {w_xi:g})") if w_sc else ""
+    # the FE bound against FD's at the same h: sqrt(c_FD / c_FE), c = lambda_m h^2 of each backend's grids
+    fe_fd = sorted({math.sqrt(c_ms[(sc, "fd")] / c_ms[(sc, "fe")]) for sc in MAP_SCENES
+                    if (sc, "fd") in c_ms and (sc, "fe") in c_ms})
+    span = (f"{fe_fd[0]:.2f}" if fe_fd[-1] - fe_fd[0] < 5e-3 else f"{fe_fd[0]:.2f} to {fe_fd[-1]:.2f}") if fe_fd else ""
+    fe_text = (f"; FE: {span} of FD's bound at the same h (sqrt(c_FD / c_FE), c = lambda_m h^2 of each backend's "
+               "grids)") if fe_fd else ""
     return [Claim("too large eta loses equilibrium", "3.2, 4",
-                  "the (eta, dt, h) maps follow the lagged-alpha bound dt < h sqrt(mu/(2 eta G)) (FD), "
-                  "~0.21 of it (FE)", literal=eta_limit, checks=checks_of(res, "claim 3a")),
+                  "the (eta, dt, h) maps against the lagged-alpha bound dt_c = h sqrt(2 mu / (eta G c)): FD c = "
+                  + ", ".join(f"{c_ms[(sc, 'fd')]:.3g} ({sc})" for sc in MAP_SCENES if (sc, "fd") in c_ms)
+                  + " (4: dt_c = h sqrt(mu / (2 eta G)))" + fe_text,
+                  literal=eta_limit, checks=checks_of(res, "claim 3a")),
             Claim("xi in [0, 1e-3] changes nothing; xi > 1e-3 unstable", "5",
                   "curtain, smallest diverging xi: " + ", ".join(
                       f"{b.upper()}{m}: {xd:.0e} (xi_c {xc:.0e})" for sc, b, m, xc, xd, _ in fd + fe
