@@ -4,7 +4,7 @@ The stiff panel (Fig. 1) stays nearly flat, the soft one (Fig. 2) stretches and 
 curvature carry the pressure together (Laplace's law); the membrane's deflection is Foppl-Hencky's; the paper's
 compatibility test (eq. (10)) on the equilibria measures its own discretisation error: second order in the inner
 half of the panel, large next to the border (measured numbers: the module docstring of deformable.scenes.panel).
-Regenerate docs/scenes/panel.png with ``python -c "from deformable.scenes.panel import main; main()"``.
+Regenerate docs/scenes/panel.png with ``python -m validation.panel``.
 """
 
 import pytest
@@ -12,8 +12,9 @@ import pytest
 import deformable as dm
 from deformable import scenes
 from deformable.geometry import check_compatibility
-from deformable.scenes.panel import PanelConfig, SoftPanelConfig, measure, node_tensors, start
+from deformable.scenes.panel import PanelConfig, SoftPanelConfig, start
 from validation.harness.backends import make_model
+from validation.panel import measure, node_tensors
 
 
 def solve(cls, backend, n):
