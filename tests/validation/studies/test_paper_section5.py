@@ -165,6 +165,62 @@ def test_media_makes_a_gif_with_every_frame_and_a_png_still():
     assert len(gif) < 1e6
 
 
+def _flag_run(case):
+    """A flag run as run_case records it: a frame every ``case.every`` steps of the scene's dt from t = 0."""
+    from deformable import scenes
+
+    cfg = scenes.config("flag")
+    dt = cfg.dt
+    t = np.arange(0, int(round(case.t_end / dt)) + 1, case.every) * dt
+    a1, a2 = np.meshgrid(np.linspace(0.0, 1.2, 5), np.linspace(0.0, 0.8, 4), indexing="ij")
+    frames = [(tk, np.stack([a1, 0.05 * np.sin(2 * math.pi * (cfg.frequency * tk - a1)), a2], axis=-1)) for tk in t]
+    return dict(status="finished", t=case.t_end, steps=int(round(case.t_end / dt)), wall=0.0, frames=frames,
+                renders={frames[-1][0]: frames[-1][1]})
+
+
+@pytest.mark.parametrize("frequency", [None, 2.0, 11.0])
+def test_the_flags_animation_has_at_least_12_frames_a_period_late_in_its_run(frequency, monkeypatch):
+    """The flag swings at 6 Hz: over its whole run 31 frames sample a period 2.6 times and show no travelling wave;
+    its animation is its last periods at 12 frames a period or more, and its still one period's phases."""
+    from deformable import scenes
+    from validation.studies.paper import media
+
+    cfg = scenes.config("flag") if frequency is None else scenes.config("flag", frequency=frequency)
+    monkeypatch.setattr(media.scenes, "config", lambda name, **kw: cfg)
+    monkeypatch.setattr(media, "run_case", _flag_run)
+    run = media.scene_run("flag", 5, frames=30)
+    t = np.array([f[0] for f in run["frames"]])
+    period = 1.0 / cfg.frequency
+    assert period / np.diff(t).max() >= media.FLAG_FRAMES_A_PERIOD >= 12
+    assert abs(t[-1] - cfg.t_end) < 1e-9 and cfg.t_end - t[0] >= media.FLAG_PERIODS * period - np.diff(t).max()
+    assert t[0] >= cfg.t_end - media.FLAG_PERIODS * period - 1e-9  # a window late in the run, not all of it
+    phases = [f[0] for f in media.phase_frames(run["frames"], cfg.frequency, cfg.t_end)]
+    assert len(phases) == media.FLAG_PHASES and np.all(np.diff(phases) > 0) and phases[-1] - phases[0] < period
+    spread = np.diff(phases) * cfg.frequency * media.FLAG_PHASES  # each step about 1 / FLAG_PHASES of a period
+    assert np.all(np.abs(spread - 1) < 0.5)
+
+
+def test_a_flag_step_too_long_for_12_frames_a_period_is_refused():
+    from deformable import scenes
+    from validation.studies.paper import media
+
+    cfg = scenes.config("flag", frequency=20.0)  # 10 steps of 5 ms a period
+    with pytest.raises(ValueError, match="too long for 12 frames a period"):
+        media.flag_sampling(cfg, cfg.dt)
+    every, t_from = media.flag_sampling(scenes.config("flag"), 5e-3)
+    assert every == 2 and abs(t_from - (2.0 - 2 / 6.0)) < 1e-12  # 16.7 frames a period over the last 2
+
+
+def test_a_floor_is_drawn_only_around_the_sheet():
+    from deformable.contact.obstacles import HalfSpace
+    from validation.studies.paper.pictures import floor_patch
+
+    pts = np.array([[0.1, 0.0, 0.6], [0.4, 0.04, 0.0]])
+    patch = floor_patch(HalfSpace(), pts, margin=0.1)
+    lo, hi = np.asarray(patch.points).min(axis=0), np.asarray(patch.points).max(axis=0)
+    assert np.allclose(lo, [0.07, -0.03, 0.0]) and np.allclose(hi, [0.43, 0.07, 0.0])
+
+
 @pytest.mark.parametrize("argv, message", [(["--nodes", "2"], "--nodes must be a whole number >= 3"),
                                            (["--frames", "x"], "--frames must be a whole number >= 1"),
                                            (["curtian"], "unknown scene 'curtian'"),

@@ -23,8 +23,8 @@ from validation.harness.surfaces import cylinder
 
 from . import damping
 
-__all__ = ["Case", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene", "fields",
-           "paper_config", "PAPER", "RUNAWAY_G", "VISIBLE", "ROWS", "SAMPLES", "SAMPLE_EVERY",
+__all__ = ["Case", "render_points", "grid_label", "scene_grids", "run_case", "SETTINGS", "spectrum", "frozen_scene",
+           "fields", "paper_config", "PAPER", "RUNAWAY_G", "VISIBLE", "ROWS", "SAMPLES", "SAMPLE_EVERY",
            "MAP_SCENES", "SCALE", "XI_BASE", "TIME_SCALE", "TRIPLES", "HANGING", "FROZEN", "RENDERS",
            "FOLD_SCENES", "scene_cases", "shipped_dt"]
 
@@ -148,7 +148,7 @@ def _upper_mean_B(model, X, L2: float) -> float:
     return float(np.mean(norm[a2 > L2 / 2]))
 
 
-def _render_points(model, X, refine: int = 3) -> np.ndarray:
+def render_points(model, X, refine: int = 3) -> np.ndarray:
     """Surface points for a picture: the surface sampled on the node grid refined ``refine`` times.
 
     (FD samples are bilinear between nodes, so the FD picture is its node grid; FE shows its cubic surface.)
@@ -180,7 +180,7 @@ def _run_scene(case: Case) -> dict:
         if case.every and state.step % case.every == 0:
             rec["snaps"].append(model.grid(state.X))
         while pending and state.t >= pending[0] - 0.5 * cfg.dt:
-            rec["renders"][pending.pop(0)] = _render_points(model, state.X)
+            rec["renders"][pending.pop(0)] = render_points(model, state.X)
 
     logger, level = _quiet()
     try:
@@ -279,9 +279,9 @@ def _run_shipped(case: Case) -> dict:
                 rec["stretch"].append((state.t, float(np.median(both)), float(both.max())))
             rec["compatibility"].append((state.t, *_compatibility(model, G, B)))
         if case.every and state.step % case.every == 0:
-            rec["frames"].append((state.t, _render_points(model, state.X, refine=2)))
+            rec["frames"].append((state.t, render_points(model, state.X, refine=2)))
         while pending and state.t >= pending[0] - 0.5 * dt:
-            rec["renders"][pending.pop(0)] = _render_points(model, state.X)
+            rec["renders"][pending.pop(0)] = render_points(model, state.X)
 
     X0 = model.initial_state()
     watch(dm.State(t=0.0, X=X0, V=np.zeros_like(X0)))

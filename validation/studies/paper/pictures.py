@@ -1,5 +1,6 @@
 r"""Pictures of the paper study: stability maps and line panels (matplotlib), side-by-side renders and animations
-(drawn by the one renderer, :mod:`deformable.io.render`)."""
+(drawn by the one renderer, :mod:`deformable.io.render`), and the contact scenes' frames among their obstacles
+(:func:`contact_images`: the camera on the sheet, a floor drawn only around it)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,8 @@ import numpy as np
 
 from .cases import VISIBLE
 
-__all__ = ["DIRECTION", "animation", "line_figure", "map_figure", "panels_figure", "render", "rest_axis"]
+__all__ = ["DIRECTION", "FLOOR_MARGIN", "animation", "contact_images", "fit_camera", "floor_patch", "line_figure",
+           "map_figure", "panels_figure", "render", "rest_axis"]
 
 _MARK = {"bounded": ("o", "tab:green"), "runaway": ("^", "tab:orange"), "diverged": ("x", "tab:red")}
 
@@ -168,8 +170,8 @@ def _picture(rows, size, lines, direction, axis, font_size) -> list[np.ndarray]:
 
 def render(frames: list[list[tuple[str, float, np.ndarray]]], size=(300, 260), lines=(), direction=DIRECTION,
            axis: int | None = None) -> bytes:
-    """Render rows of (label, t (s), points (M, N, 3)) side by side (deformable.io.render.frame_image); a PNG
-    (palette) as bytes.
+    """Render rows of (label, t (s; None: no time written), points (M, N, 3)) side by side
+    (deformable.io.render.frame_image); a PNG (palette) as bytes.
 
     Colour: the coordinate out of the rest plane (``axis``, default :func:`rest_axis` of the earliest frame), one
     colour range for the whole picture (the 2nd to 98th percentile, symmetric about 0 when it has both signs),
@@ -193,3 +195,89 @@ def animation(frames: list[tuple[str, float, np.ndarray]], size=(360, 320), line
         raise ValueError("an animation needs at least one frame")
     rows, axis = _panels([frames], axis)
     return gif_bytes(_picture([[[p]] for p in rows[0]], size, lines, direction, axis, 10), fps=fps)
+
+
+#: a floor (a plane obstacle) is drawn this fraction of the sheet's footprint beyond it on every side
+FLOOR_MARGIN = 0.15
+
+
+def floor_patch(plane, points: np.ndarray, margin: float = FLOOR_MARGIN):
+    """A pyvista rectangle of a plane obstacle (``point``, ``normal``) just around the sheet: the ``points``
+    (..., 3) projected onto the plane, their rectangle in the plane widened by ``margin`` of its larger side
+    on every side (at least 1 cm), so that the floor frames the sheet instead of filling the picture."""
+    from deformable.io.render import offscreen_pyvista
+
+    pv = offscreen_pyvista()
+    n = np.asarray(plane.normal, float)
+    n = n / np.linalg.norm(n)
+    e1 = np.cross(n, (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 1.0, 0.0))
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    o = np.asarray(plane.point, float)
+    rel = np.reshape(points, (-1, 3)) - o
+    u, v = rel @ e1, rel @ e2
+    pad = max(margin * max(np.ptp(u), np.ptp(v)), 0.01)
+    (u0, u1), (v0, v1) = (u.min() - pad, u.max() + pad), (v.min() - pad, v.max() + pad)
+    corners = np.array([o + a * e1 + b * e2 for a, b in ((u0, v0), (u1, v0), (u1, v1), (u0, v1))])
+    return pv.PolyData(corners, np.array([4, 0, 1, 2, 3]))
+
+
+def fit_camera(points: np.ndarray, direction=DIRECTION, size=(360, 320), margin: float = 1.08, bar: float = 0.84):
+    """A camera position (position, focal point, view up; z up) looking from ``direction`` at the axis-aligned
+    bounding box of ``points`` (..., 3), as near as it can be with the whole box in view: the box's corners
+    projected across the view, its half width and height against the view angle
+    (:data:`deformable.io.render.VIEW_ANGLE`, vertical) and the picture's aspect, ``bar`` of its width left of
+    the colour bar; ``margin`` > 1 leaves room around it. Tighter than :func:`deformable.io.render.camera`,
+    which frames the box's bounding sphere: a tall box, a ribbon standing before it falls, wastes less of the
+    picture."""
+    from deformable.io.render import VIEW_ANGLE
+
+    pts = np.reshape(points, (-1, 3))
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    right = np.cross((0.0, 0.0, 1.0), d)
+    right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
+    up = np.cross(d, right)
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]) - centre
+    half_w, half_h, depth = (float(np.abs(corners @ e).max()) for e in (right, up, d))
+    tan = math.tan(math.radians(VIEW_ANGLE) / 2)
+    aspect = bar * size[0] / size[1]
+    distance = depth + max(half_h / tan, half_w / (tan * aspect), 1e-3) * margin
+    return [tuple(centre + distance * d), tuple(centre), (0.0, 0.0, 1.0)]
+
+
+def contact_images(frames: list[tuple[str, float, np.ndarray]], obstacles=(), size=(360, 320), direction=DIRECTION,
+                   cell: float = 0.0, margin: float = 1.15, colour_from: float | None = None) -> list[np.ndarray]:
+    """One picture (H, W, 3) uint8 of each of ``frames``, (label, t (s), points (M, N, 3)), of a sheet among its
+    ``obstacles`` (deformable.contact.obstacles), drawn by :func:`deformable.io.render.frame_image`.
+
+    The sheet is coloured by its height z (viridis, one range for all the frames: the 2nd to 98th percentile of
+    the frames at or after ``colour_from`` (s; default: all), so that a sheet's start high above where it
+    comes to rest, the coil's ribbon upright, saturates and the rest's layers get the whole range);
+    one camera for all, looking from ``direction`` at the sheet's bounding box over the frames
+    (:func:`fit_camera`, ``margin`` around it), so the sheet, not the floor, fills the picture; the obstacles
+    in grey: a plane (the floor) as a rectangle just around the sheet's footprint over the frames
+    (:func:`floor_patch`), a ball smaller by the sag of a cell's diagonal ``cell`` (m), rounded solids as
+    their sharp cores
+    (:func:`deformable.io.render.obstacle_mesh`), a moving obstacle where it is at each frame. A still is this
+    with one frame: framed and coloured on that frame alone."""
+    from deformable.io.render import TITLES, Panel, colour_range, frame_image, obstacle_mesh, time_digits
+
+    if not frames:
+        raise ValueError("a picture needs at least one frame")
+    pts = np.concatenate([np.reshape(p, (-1, 3)) for _, _, p in frames])
+    bounds = np.array([pts.min(axis=0), pts.max(axis=0)])
+    view = fit_camera(pts, direction, size, margin)
+    late = [p for _, t, p in frames if colour_from is None or t >= colour_from] or [frames[-1][2]]
+    clim = colour_range([np.asarray(p)[..., 2] for p in late], percentile=98.0)
+
+    def meshes(t):
+        return [floor_patch(o, pts) if o.kind == "plane" else obstacle_mesh(o, bounds, t, cell) for o in obstacles]
+
+    fixed = None if any(o.moving for o in obstacles) else meshes(0.0)
+    digits = time_digits([t for _, t, _ in frames])
+    return [frame_image([[Panel(p, np.asarray(p)[..., 2].ravel(), label, t)]], size, field="z", bar_title=TITLES["z"],
+                        clim=clim, view=view, obstacles=fixed if fixed is not None else meshes(t), digits=digits)
+            for label, t, p in frames]
