@@ -210,7 +210,8 @@ class Session:
         anew, on the same constraint reference.
         """
         values = self._with_fabric(values)
-        config = self.config.replace(**values)
+        config = self.config.replace(**{"nodes": self.config.nodes, **values})  # the running grid (a fabric's own
+        # grid, where a scene picks one, is for a new run: the stepper is retuned on the same grid)
         model = make_model(scenes.build(config), self.backend)
         dt = backend_dt(model, config.dt)
         if dt == self.stepper.dt:

@@ -18,7 +18,9 @@ Real-world starting point (section 4): a curtain fabric of 0.2 kg/m^2, E h = 8 e
 on the shipped 64 x 64 grid: the narrowest fold of 2 s is 5 grid spacings on FD 64 x 64, 3.75 on FE 32 x 32
 elements. The silky curtain's fold scale (0.050 m) spans 3 spacings, its median fold 6.6 (FD) and 4.5
 (FE), narrowing to 1-2 next to the drawn end, where the gathered cloth stacks (docs/design.md, Findings). A
-limp cloth (xi = 1e-5) folds at the grid scale on every grid tried, up to FD 96 x 96 nodes.
+limp cloth (xi = 1e-5) folds at the grid scale on FD 48 x 48 (its narrowest late fold 1 h); on 80 x 80, where its
+fold scale spans 4.7 spacings, the narrowest fold of its last 0.4 s is 5 h (6.3 cm), while its first folds, during
+the draw, still narrow to 1 h (:mod:`deformable.scenes.params`).
 
 Differences from the paper: its curtain is folded by "external forces
 perpendicular to the plane on the upper part" and its top restricted "to
@@ -42,10 +44,22 @@ the folds are retried shorter), the closest two faces 2.0 mm apart, in 127 s
 against 77 s wall time (two runs side by side on two cores).
 The paper's force (``force_model = "tpbf87"``, the semi-implicit scheme) has
 no self-contact.
+
+The grid for a named fabric. A curtain given a ``fabric`` and no ``nodes`` ships on the grid
+that resolves that fabric's folds (:meth:`CurtainConfig.shipped_nodes`): the coarsest of
+:data:`FABRIC_GRIDS` on which ``deformable params`` predicts the narrowest fold at least 3 grid
+spacings wide (:attr:`deformable.scenes.params.Parameters.resolved`: the fold scale
+(D H / (mu g))^(1/4) of the fabric's warp, Cerda and Mahadevan 2003, at least 4.5 grid spacings,
+as measured on this scene). Measured with ``deformable run curtain fabric=NAME`` on the grid it
+picks (FD, 2 s, one thread; the paper study's fold measure on the written frames every 0.1 s):
+denim on 64 x 64, its narrowest late fold 5 h = 7.9 cm (167 s CPU); jacket-polyester on 80 x 80,
+9 h = 11.4 cm (334 s; on 64 x 64 a ridge kinked at the grid scale, 1 h). An explicit
+``nodes`` (``--grid``, a scene file's) wins; without a fabric the scenes keep their grids.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import ClassVar
@@ -59,12 +73,16 @@ from ..physics.forces import BodyForce, Gravity
 from ..scene.constraints import Pin, Slide
 from ..scene.scene import Scene
 from .config import SceneConfig
+from .params import fold_scale, resolving_nodes
 from .shapes import VERTICAL, FoldNoise, smooth_ramp
 
-__all__ = ["CurtainConfig", "SilkyCurtainConfig", "PaperConfig", "hook_nodes", "SELF_CONTACT"]
+__all__ = ["CurtainConfig", "SilkyCurtainConfig", "PaperConfig", "hook_nodes", "SELF_CONTACT", "FABRIC_GRIDS"]
 
 #: the curtains' self-contact under the variational model: a barrier within 4 mm beyond a fabric 1 mm thick
 SELF_CONTACT = Contact(self_distance=4e-3, thickness=1e-3)
+#: the square FD grids (nodes a side) a curtain in a named fabric may ship on, coarsest first: multiples of 16 from
+#: the coarsest grid the fold campaign saw resolved by the rule (48: xi = 1e-4, its narrowest fold 5 h) up to 192
+FABRIC_GRIDS = tuple(range(48, 193, 16))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -129,6 +147,29 @@ class CurtainConfig(SceneConfig):
         if self.rings not in self.RINGS:
             raise InputError(f"scene field rings must be 0 (the drawn end) or 1 (hooks drawn together), got "
                              f"{self.rings!r}")
+
+    def shipped_nodes(self) -> tuple:
+        """The grid (M, N) this config ships on for its material (module docstring): the class's ``nodes``
+        without a fabric; with one, (n, n) for the first n of :data:`FABRIC_GRIDS` on which the fold scale of the
+        fabric's warp, (D H / (s mu g))^(1/4) (m; Cerda and Mahadevan 2003; s the ``scale``), spans at least
+        :data:`~deformable.scenes.params.FOLD_SCALE_SPACINGS` of the smaller grid spacing
+        (:func:`~deformable.scenes.params.resolving_nodes`), the finest of them when none does."""
+        if not self.fabric:
+            return tuple(type(self).nodes)
+        fabric = self.named_fabric()
+        l_f = fold_scale(float(fabric.bending[0]), self.scale * fabric.density * self.g, self.size[1])
+        n = resolving_nodes(l_f, min(self.size), FABRIC_GRIDS) or FABRIC_GRIDS[-1]
+        return (n, n)
+
+    def replace(self, **changes) -> "CurtainConfig":
+        """:meth:`SceneConfig.replace`; a config on the grid it ships on for its material (:meth:`shipped_nodes`)
+        moves to the grid of the new material when ``changes`` give no ``nodes`` (``fabric=denim``: the grid that
+        resolves denim; ``fabric=""``: the scene's own grid back). Explicit nodes win, and a grid set before is
+        kept."""
+        new = super().replace(**changes)
+        if "nodes" not in changes and self.nodes == self.shipped_nodes() and new.nodes != new.shipped_nodes():
+            new = dataclasses.replace(new, nodes=new.shipped_nodes())
+        return new
 
     def build(self) -> Scene:
         """The Scene of this config."""

@@ -102,14 +102,16 @@ def run_table(text: str, source: str = "<string>") -> dict:
 
 
 def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
-    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config.
+    """The resolved config as TOML text that :func:`read_toml` reads back to an equal config (with a named
+    fabric, its name and not the mu, eta, xi and shear it sets).
 
     The contact settings follow as a ``[contact]`` table and the extra obstacles as ``[[obstacles]]`` tables;
     ``run``: settings that are not scene fields (backend, scheme, package version, ...), written as a
     ``[run]`` table after them (:func:`run_table` reads it back).
     """
     table = {"scene": cfg.scene}
-    table.update({f.name: getattr(cfg, f.name) for f in fields(cfg) if f.name not in ("obstacles", "contact")})
+    own = cfg.FABRIC_FIELDS if cfg.fabric else ()  # a named fabric sets these: it stands for them
+    table.update({f.name: getattr(cfg, f.name) for f in fields(cfg) if f.name not in ("obstacles", "contact", *own)})
     if cfg.contact is not None:
         table["contact"] = cfg.contact.table()
     if cfg.obstacles:

@@ -339,3 +339,11 @@ def test_the_fabric_menu_runs_a_named_fabric_and_a_slider_leaves_it():
     window.frame()
     assert s.config.fabric == "" and (s.value("mu"), s.value("eta")) == (own.mu, own.eta)
     window.plotter.close()
+
+
+def test_a_fabric_chosen_in_the_view_keeps_the_running_grid():
+    """A curtain in jacket-polyester ships on 80 x 80 nodes; chosen in the running view it keeps the view's grid."""
+    s = Session(scenes.config("curtain", nodes=(12, 12)), "fd")
+    stepper = s.stepper
+    s.set(fabric="jacket-polyester")
+    assert s.config.fabric == "jacket-polyester" and s.config.nodes == (12, 12) and s.stepper is stepper

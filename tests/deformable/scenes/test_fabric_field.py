@@ -42,3 +42,8 @@ def test_a_scene_file_and_the_command_line_take_a_fabric(tmp_path, capsys):
     c_warp = dm.Fabric.preset("denim").bending_length[0]
     assert "fabric 'denim'" in out and f"bending length (D / (mu g))^(1/3) = {c_warp:.3g} m" in out
     assert main(["run", "hanging", "fabric=denim", "--grid", "6x6", "--steps", "2", "--out", str(tmp_path)]) == 0
+
+
+def test_a_config_in_a_fabric_is_written_and_read_back_equal():
+    cfg = scenes.config("curtain", fabric="denim", nodes=(16, 16))
+    assert scenes.read_toml_text(scenes.to_toml(cfg)) == cfg

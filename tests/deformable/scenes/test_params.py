@@ -57,7 +57,7 @@ def test_the_folds_length_scale_says_whether_they_are_resolved():
     assert coarse.fold_scale == pytest.approx(scenes.fold_wavelength(cfg.xi, cfg.mu, cfg.g, cfg.size[1], cfg.scale),
                                               rel=1e-12)
     assert coarse.bending_length == pytest.approx((2 * cfg.xi / (cfg.mu * cfg.g)) ** (1 / 3), rel=1e-12)
-    _, fine = _params("flag", nodes=(64, 64))
+    _, fine = _params("flag", nodes=(80, 80))  # l_f 5.3 grid spacings (on 64 x 64: 4.2, below the rule's 4.5)
     assert not coarse.resolved and fine.resolved
     assert "NOT resolved" in "\n".join(coarse.lines()) and "NOT resolved" not in "\n".join(fine.lines())
 
