@@ -119,6 +119,7 @@ class Readout:
     dt: float = math.nan
     stable: float = math.inf
     fabric: str = ""
+    resolution: str = ""
 
     def text(self) -> str:
         at = "" if self.tested_at == self.t else f" (at t = {self.tested_at:.3f} s)"
@@ -132,7 +133,8 @@ class Readout:
                 f"energy: elastic {self.elastic:.4g} J, kinetic {self.kinetic:.4g} J\n"
                 f"largest stretch {100 * self.stretch:.2f} %\n"
                 f"compatibility (eq. 10): rest state G0, B0 {self.rest}\n"
-                f"  the state{at}: {state}" + self._stability())
+                f"  the state{at}: {state}" + self._stability()
+                + (f"\n{self.resolution}" if self.resolution else ""))
 
     def _stability(self) -> str:
         """Where the scheme has a stable step (the paper's semi-implicit scheme, section 2.3): dt against it."""
@@ -197,7 +199,7 @@ class Session:
         self.model = make_model(scenes.build(config), self.backend)
         self.rest = rest_verdict(self.model.scene)
         self.stepper = dm.TimeStepper(self.model, backend_dt(self.model, config.dt))
-        self.stable = self._stable_step()
+        self.stable, self.resolution = self._stable_step(), self._resolution()
         self.X0 = self.model.initial_state()
 
     def set(self, **values) -> None:
@@ -222,7 +224,7 @@ class Session:
             stepper.start(self.stepper.reference)  # the constraints' reference positions, as at the start
             self.stepper = stepper
         self.config, self.model = config, model
-        self.stable = self._stable_step()
+        self.stable, self.resolution = self._stable_step(), self._resolution()
 
     def _with_fabric(self, values: dict) -> dict:
         """A change of the named fabric, or of a field it sets, as config changes: ``fabric=""`` is the scene's own
@@ -237,6 +239,15 @@ class Session:
         if self.config.fabric and "fabric" not in values and set(values) & set(own):
             return {**{f: getattr(self.config, f) for f in own}, **values, "fabric": ""}
         return values
+
+    def _resolution(self) -> str:
+        """The grid against the folds, by ``deformable params``' criterion (:mod:`deformable.scenes.params`: the
+        narrowest fold predicted, at least 3 grid spacings): a warning where the grid does not resolve them."""
+        p = scenes.parameters(self.config, self.model, self.backend)
+        if not math.isfinite(p.fold_scale) or p.resolved:
+            return ""
+        return (f"grid NOT resolving the folds: narrowest fold predicted {p.narrowest_fold / min(p.spacing):.2g} "
+                f"grid spacings (at least 3 to resolve them; deformable params)")
 
     def _stable_step(self) -> float:
         """The stable step (s) of the stepper's scheme: the backend's bound where the scheme is the paper's
@@ -295,7 +306,8 @@ class Session:
         return Readout(t=t, elastic=float(e.stretching + e.bending), kinetic=float(self.model.kinetic_energy(V)),
                        stretch=float(max(s1.max(), s2.max())), rest=self.rest, mismatch=test.mismatch,
                        mismatch_2h=test.mismatch_2h, note=test.note, status=self.status, tested_at=test.t,
-                       dt=self.stepper.dt, stable=self.stable, fabric=self.config.fabric)
+                       dt=self.stepper.dt, stable=self.stable, fabric=self.config.fabric,
+                       resolution=self.resolution)
 
 
 @dataclass(frozen=True)

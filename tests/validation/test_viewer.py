@@ -347,3 +347,15 @@ def test_a_fabric_chosen_in_the_view_keeps_the_running_grid():
     stepper = s.stepper
     s.set(fabric="jacket-polyester")
     assert s.config.fabric == "jacket-polyester" and s.config.nodes == (12, 12) and s.stepper is stepper
+
+
+def test_the_readout_warns_where_the_grid_does_not_resolve_the_folds():
+    """The same criterion as deformable params: the curtain's limp cloth (xi = 1e-5) on 12 x 12 nodes is not
+    resolved, the shipped curtain's xi on its own 64 x 64 grid is; a slider to the limp xi warns."""
+    from deformable.scenes import parameters
+
+    s = Session(scenes.config("curtain", nodes=(12, 12), xi=1e-5), "fd")
+    assert not parameters(s.config, s.model, "fd").resolved
+    assert "grid NOT resolving the folds" in s.readout().text()
+    s.set(xi=1.0)
+    assert parameters(s.config, s.model, "fd").resolved and "NOT resolving" not in s.readout().text()
