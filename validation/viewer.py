@@ -16,7 +16,7 @@ compatibility test (section 3.2, eq. (10)). The test asks whether given G and B 
 a question about the rest state G0, B0 a user gives (:func:`deformable.geometry.check_rest_state`, on the rest
 tensors at least 33 points a side): its verdict is shown, "INCOMPATIBLE" where no surface has them. A state of
 the simulation is a surface by construction (its G and B are computed from its positions), so the test on it
-measures only its own discretisation error: the window shows the test's mismatch (the largest |u - v| over the
+measures only its own discretisation error: the window shows the test's mismatch (the largest ``|u - v|`` over the
 compared vectors' scale, :attr:`~deformable.geometry.compatibility.Compatibility.mismatch_relative`) on the
 state at h and on every second node at 2h, and calls the state a surface, never incompatible. Measured on the
 shipped curtain (FD 20 x 20, every 0.1 s over 2 s): the mismatch 0.12 to 1.66 at h and 0.09 to 1.32 at 2h, the

@@ -43,25 +43,25 @@ The readings, one for every preset:
 - *Bending length* c = (D / (w g))^(1/3) (Peirce 1930, J. Textile Inst. 21, T377; ASTM D1388), as
   :attr:`Fabric.bending_length` derives it; the sources' table derives the same at 0 and 90 degrees.
 
-The presets (T and D at the readings above; c the bending length; validation/studies/fabrics.py measures c
+The presets (T, D and c, the bending length, warp / weft, at the readings above; the data of Wang, O'Brien and
+Ramamoorthi 2011 but paper; validation/studies/fabrics.py measures c
 by the cantilever test on both backends):
 
-=================  ======  ===============  ===============  ===========  =======================================
-name               w       T warp / weft    D warp / weft    c warp /     source (ARCSim materials/, the data of
-                   (g/m^2) (N/m)            (micro N m)      weft (cm)    Wang, O'Brien, Ramamoorthi 2011)
-=================  ======  ===============  ===============  ===========  =======================================
-blanket            228     303 / 490        59.8 / 117       2.99 / 3.74  pink-ribbon-brown.json
-cotton-poly        220     4033 / 4070      125 / 125        3.87 / 3.87  royal-target.json (pants)
-denim              324     411 / 2028       97.0 / 64.2      3.12 / 2.72  11oz-black-denim.json
-jacket-knit        284     62.3 / 88.1      37.2 / 36.3      2.37 / 2.35  camel-ponte-roma.json
-jacket-polyester   113     86.1 / 343       20.3 / 14.3      2.64 / 2.35  tango-red-jet-set.json
-paper              100     1.0e6 / 1.0e6    400 / 400        7.42 / 7.42  paper.json (the authors' estimate)
-rib-knit           276     85.7 / 130       32.2 / 46.2      2.28 / 2.58  ivory-rib-knit.json
-sweater            224     25.0 / 6.54      45.6 / 59.5      2.75 / 3.00  navy-sparkle-sweat.json
-swimsuit           204     95.9 / 209       51.0 / 60.2      2.94 / 3.11  white-swim-solid.json
-tablecloth         128     4004 / 4055      31.3 / 51.7      2.92 / 3.45  white-dots-on-blk.json
-tshirt-knit        187     33.2 / 69.0      14.3 / 23.2      1.98 / 2.33  gray-interlock.json
-=================  ======  ===============  ===============  ===========  =======================================
+================  =========  =============  =============  ===========  ==================================
+name              w (g/m^2)  T (N/m)        D (micro N m)  c (cm)       ARCSim materials/ file
+================  =========  =============  =============  ===========  ==================================
+blanket           228        303 / 490      59.8 / 117     2.99 / 3.74  pink-ribbon-brown.json
+cotton-poly       220        4033 / 4070    125 / 125      3.87 / 3.87  royal-target.json (pants)
+denim             324        411 / 2028     97.0 / 64.2    3.12 / 2.72  11oz-black-denim.json
+jacket-knit       284        62.3 / 88.1    37.2 / 36.3    2.37 / 2.35  camel-ponte-roma.json
+jacket-polyester  113        86.1 / 343     20.3 / 14.3    2.64 / 2.35  tango-red-jet-set.json
+paper             100        1.0e6 / 1.0e6  400 / 400      7.42 / 7.42  paper.json (the authors' estimate)
+rib-knit          276        85.7 / 130     32.2 / 46.2    2.28 / 2.58  ivory-rib-knit.json
+sweater           224        25.0 / 6.54    45.6 / 59.5    2.75 / 3.00  navy-sparkle-sweat.json
+swimsuit          204        95.9 / 209     51.0 / 60.2    2.94 / 3.11  white-swim-solid.json
+tablecloth        128        4004 / 4055    31.3 / 51.7    2.92 / 3.45  white-dots-on-blk.json
+tshirt-knit       187        33.2 / 69.0    14.3 / 23.2    1.98 / 2.33  gray-interlock.json
+================  =========  =============  =============  ===========  ==================================
 
 Caveats. The measured values are the small-strain ends of nonlinear data (the file's other rows stiffen with
 strain and curvature; the model here is linear about the flat sheet, its nonlinearity that of eq. (13));

@@ -29,16 +29,16 @@ resolved when l_f spans at least RESOLVED / NARROWEST_PER_FOLD_SCALE = :data:`FO
 spacings. Measured on the drawn curtain (FD, the variational model with its self-contact, its 2 s, one thread):
 l_f / h, then the narrowest late fold in h and in cm, then CPU s,
 
-==================  ===================  ===================  ===================  ===================
-run                 32 x 32 nodes        48 x 48              64 x 64              80 x 80
-==================  ===================  ===================  ===================  ===================
-xi = 1e-4 (shipped) 3.26: 6 h 19 cm 26   4.94: 5 h 11 cm 48   6.63: 12 h 19 cm 69
-xi = 1e-5           1.83: 2 h 6.5 cm 19  2.78: 1 h 2.1 cm 68                       4.67: 5 h 6.3 cm 339
-denim               2.41: 3 h 9.7 cm 38  3.66: 4 h 8.5 cm 116 4.90: 5 h 7.9 cm 185
-tablecloth          2.29: 4 h 13 cm 42   3.48: 1 h 2.1 cm 116 4.66: 8 h 13 cm 260
-jacket-polyester    2.12: 3 h 9.7 cm 37  3.22: 4 h 8.5 cm 97  4.32: 1 h 1.6 cm 196 5.41: 9 h 11 cm 334
-tshirt-knit         1.71: 2 h 6.5 cm 31  2.60: 2 h 4.3 cm 75  3.48: 2 h 3.2 cm 154
-==================  ===================  ===================  ===================  ===================
+===================  ===================  ====================  ====================  ====================
+run                  32 x 32 nodes        48 x 48               64 x 64               80 x 80
+===================  ===================  ====================  ====================  ====================
+xi = 1e-4 (shipped)  3.26: 6 h 19 cm 26   4.94: 5 h 11 cm 48    6.63: 12 h 19 cm 69
+xi = 1e-5            1.83: 2 h 6.5 cm 19  2.78: 1 h 2.1 cm 68                         4.67: 5 h 6.3 cm 339
+denim                2.41: 3 h 9.7 cm 38  3.66: 4 h 8.5 cm 116  4.90: 5 h 7.9 cm 185
+tablecloth           2.29: 4 h 13 cm 42   3.48: 1 h 2.1 cm 116  4.66: 8 h 13 cm 260
+jacket-polyester     2.12: 3 h 9.7 cm 37  3.22: 4 h 8.5 cm 97   4.32: 1 h 1.6 cm 196  5.41: 9 h 11 cm 334
+tshirt-knit          1.71: 2 h 6.5 cm 31  2.60: 2 h 4.3 cm 75   3.48: 2 h 3.2 cm 154
+===================  ===================  ====================  ====================  ====================
 
 Every run with l_f >= 4.66 h had its narrowest fold at least 5 h wide (1.0 to 1.8 l_f). Below, runs fold at 1
 or 2 h up to l_f = 4.32 h (jacket-polyester on 64 x 64: a one-node kink in a ridge under the rod while the end
