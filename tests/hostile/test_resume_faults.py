@@ -39,6 +39,7 @@ def _same_checkpoint(a, b):
 
 
 # -- finding 1: the controller's memory is in the checkpoint ---------------------------------------------
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_the_sphere_resumed_across_its_impact_is_the_same_run(tmp_path, capsys):
     """dt = 0.02 s: the impact on the ball (near t = 0.17 s) halves the step; resumed from the checkpoint
     just after it (step 10, dt 0.01 s) and from one before it (step 6)."""
@@ -225,6 +226,7 @@ def test_a_live_run_s_lock_still_keeps_a_second_run_out(tmp_path, capsys):
     assert code == 2 and "in use by another run" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_scene_file_that_is_a_named_pipe_is_refused(tmp_path):
     """ce6e554 opened it and waited for a writer for ever; run in a subprocess with a timeout."""
     pipe = tmp_path / "scene.toml"

@@ -122,6 +122,7 @@ def test_a_range_with_an_end_that_is_not_finite_is_refused(item, message, tmp_pa
 
 
 # -- 5: a pool worker that dies ------------------------------------------------------------------------------
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_dead_pool_worker_is_replaced_and_its_case_retried_the_others_untouched(tmp_path):
     cases = [(str(tmp_path), v, 2, False) for v in range(6)]
     with Runner(2) as runner:
@@ -152,6 +153,7 @@ def victim(monkeypatch, tmp_path):
     return make
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_sweep_whose_worker_dies_once_finishes_every_case_and_exits_0(tmp_path, capsys, caplog, victim):
     """Before, every case pending when the worker died was a failed row (also those not started), exit code 0."""
     markers = victim(always=False)
@@ -165,6 +167,7 @@ def test_a_sweep_whose_worker_dies_once_finishes_every_case_and_exits_0(tmp_path
     assert "a worker process died running a case (exit code 3); the case runs again" in caplog.text
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_sweep_with_failed_cases_says_so_in_its_last_line_and_exits_1(tmp_path, capsys, victim):
     victim(always=True)
     code, out, err = _run(["sweep", *TINY, "eta=20,40,80", "--jobs", 2, "--oversubscribe",

@@ -18,6 +18,7 @@ def series(tmp_path_factory):
     return folder / "sheet.xdmf"
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_every_frame_becomes_a_png_and_the_gif_comes_last(series, tmp_path):
     written = render_series(series, tmp_path / "frames", field="energy_density", size=(160, 120), title="sheet")
     pngs, gif = written[:-1], written[-1]

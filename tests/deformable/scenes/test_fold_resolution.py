@@ -76,6 +76,7 @@ def test_a_fabric_ships_on_the_coarsest_grid_that_resolves_it_and_explicit_nodes
     assert out.startswith("curtain: 32 x 32 nodes on fd") and "NOT resolved" in out
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_run_the_rule_calls_unresolved_folds_narrower_than_3_spacings():
     """The limp cloth (xi = 1e-5, l_f 1.4 h) on FD 24 x 24, drawn in 0.8 s and measured over 0.6-1 s (the shipped
     schedule at twice its pace: 8 s on one core against 14 s; on it the narrowest late fold is 2 h as well):

@@ -205,6 +205,7 @@ def test_the_rate_verdicts_follow_the_numbers():
     assert any("0.5 of 0.5 s" in line and line.endswith("8.3 min (target <= 10 min): met") for line in met)
 
 
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_realtime_rows_run_the_view_offscreen_and_append_a_row_a_run(tmp_path, capsys):
     """``--realtime``: the scene stepped and drawn as ``deformable view --offscreen`` does, in CPU seconds; each run
     appends its row (one scene, then another: two rows), and the default tables do not run."""

@@ -137,6 +137,7 @@ def test_a_scene_file_is_the_base(tmp_path):
 
 
 # -- restarts ------------------------------------------------------------------------
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_a_killed_sweep_started_again_runs_only_the_missing_cases(tmp_path, runs):
     out = tmp_path / "out"
     argv = ["sweep", "hanging", "nodes=10x10", "t_end=0.15", "eta=10,20,40,80,160,320", "--out", str(out)]
@@ -198,6 +199,7 @@ def test_an_unreadable_stored_case_runs_again(tmp_path, runs):
 
 
 # -- executors -----------------------------------------------------------------------
+@pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow
 def test_on_dask_the_numbers_are_those_of_a_serial_run(tmp_path, capsys, dask_scheduler):
     address, _ = dask_scheduler
     assert sweep(tmp_path, "eta=20,40", "mu=-1,0.2", "--scheduler", address, "--compare-serial") == 1
