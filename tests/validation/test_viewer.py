@@ -221,6 +221,7 @@ def display(monkeypatch):
         os.environ["DISPLAY"] = old
 
 
+@pytest.mark.slow  # a whole pipeline (Dask, a real window, a long run): pytest -m slow
 def test_a_real_window_shows_a_moved_slider_changing_the_motion(display, tmp_path):
     """Frames in turn (``--frames``) in a real window. The damping moves the sheet visibly within 0.4 s; xi x 30
     does not (0.1 grey levels on the sheet: the readout's digits alone made the difference)."""

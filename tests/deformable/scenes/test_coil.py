@@ -7,6 +7,7 @@ are not passed by a strip that never folded."""
 import math
 
 import numpy as np
+import pytest
 
 import deformable as dm
 from deformable import scenes
@@ -14,6 +15,7 @@ from deformable.contact.selfmesh import ContactMesh
 from fdmodel import FDModel
 
 
+@pytest.mark.slow  # a whole pipeline (Dask, a real window, a long run): pytest -m slow
 def test_the_strip_folds_onto_itself_never_crossing_itself_nor_the_floor():
     cfg = scenes.config("coil", nodes=(31, 3), t_end=0.3)
     scene = scenes.build(cfg)

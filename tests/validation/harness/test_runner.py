@@ -72,6 +72,7 @@ def test_a_pool_and_dask_map_in_order_like_the_serial_runner(executors):
         assert os.getpid() not in {pid for _, pid in got[name]}, f"{name} ran in this process"
 
 
+@pytest.mark.slow  # a whole pipeline (Dask, a real window, a long run): pytest -m slow
 def test_sweep_cases_are_bit_identical_serially_on_the_pool_and_on_dask(executors):
     cases = tiny_sweep().cases()
     got = {name: r.map(run_case, cases) for name, r in executors.items()}
@@ -82,6 +83,7 @@ def test_sweep_cases_are_bit_identical_serially_on_the_pool_and_on_dask(executor
         assert [without_wall(r) for r in records] == reference, f"{name} differs from the serial run"
 
 
+@pytest.mark.slow  # a whole pipeline (Dask, a real window, a long run): pytest -m slow
 def test_paper_study_cases_are_bit_identical_serially_on_the_pool_and_on_dask(executors):
     cases = [Case("run", "hanging", b, 6, (("eta", 30.0),), t_end=0.03, every=10) for b in ("fd", "fe")]
     cases.append(Case("spectrum", "hanging", "fd", 6))
