@@ -210,6 +210,9 @@ def parameters(cfg, model, backend: str) -> Parameters:
              Parameter("f", cfg.mu * cfg.g, s * cfg.mu * cfg.g, "N/m^2",
                        f"gravity's force density mu g (g = {cfg.g:g} m/s^2)"
                        + (f"; the scene's other applied forces times {s:g} too" if s != 1 else "")))
+    if isinstance(getattr(cfg, "pressure", None), float):  # a scene loaded by a pressure (the panel, Figs 1-2)
+        macro += (Parameter("p", cfg.pressure, s * cfg.pressure, "N/m^2",
+                            "pressure along the sheet's normal (a follower load)"),)
     fm = ForceModel.of(model.force_model)
     own = hasattr(fm, "stiffnesses")  # Koiter's shell, the orthotropic sheet: their own E, nu, h
     if own:

@@ -104,3 +104,11 @@ def test_the_soft_panel_settles_on_its_equilibrium_within_a_second():
     run = dm.TimeStepper(model, cfg.dt).run(model.initial_state(), steps=int(round(1.0 / cfg.dt)))
     assert run.status == "finished"
     assert abs(model.grid(run.state.X)[4, 4, 2] / model.grid(X)[4, 4, 2] - 1) < 1e-3
+
+
+def test_params_lists_the_panels_pressure_among_its_loads(capsys):
+    from validation.commands import main
+
+    assert main(["params", "panel", "--grid", "9x9"]) == 0
+    out = capsys.readouterr().out
+    assert "  p       10 N/m^2: pressure along the sheet's normal (a follower load)" in out
