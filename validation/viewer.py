@@ -588,7 +588,7 @@ class Window:
     def _fabric_menu(self, size) -> None:
         """A menu of the named fabrics (a text slider, lower left): the scene's own material or a preset, whose
         density and warp and weft weights the running simulation takes (:meth:`Session._with_fabric`)."""
-        names = [self.OWN, *dm.Fabric.presets()]
+        names = self._fabric_names = [self.OWN, *dm.Fabric.presets()]
         self._fabric = self.session.config.fabric or self.OWN
 
         def chosen(name):
@@ -607,8 +607,7 @@ class Window:
         """Choose a fabric in the menu as a hand would (its widget's value, then its end-of-interaction event)."""
         import vtk
 
-        names = [self.OWN, *dm.Fabric.presets()]
-        self.fabric_menu.GetRepresentation().SetValue(names.index(name))
+        self.fabric_menu.GetRepresentation().SetValue(self._fabric_names.index(name))
         self.fabric_menu.InvokeEvent(vtk.vtkCommand.EndInteractionEvent)
 
     @staticmethod

@@ -232,8 +232,9 @@ class SceneConfig(Registered, family="scene"):
         if self._weights_given():
             raise InputError(f"scene field fabric: the {self.force_model} model takes its weights alpha and beta "
                              "directly, not a fabric's", field="fabric", value=self.fabric)
-        eta, xi = self.named_fabric().weights(self.force_model)
-        for name, value in (("mu", self.named_fabric().density), ("eta", eta[0, 0]), ("xi", xi[0, 0]),
+        fabric = self.named_fabric()
+        eta, xi = fabric.weights(self.force_model)
+        for name, value in (("mu", fabric.density), ("eta", eta[0, 0]), ("xi", xi[0, 0]),
                             ("shear", min(1.0, eta[0, 1] / eta[0, 0]))):
             object.__setattr__(self, name, float(value))
 
