@@ -207,11 +207,32 @@ class Directions:
     def solve(self, g: np.ndarray, report) -> np.ndarray:
         """The chord (or Newton) direction ``-A^-1 g`` with the factorisation at hand."""
         t0 = time.perf_counter()
-        d = -self.solver.solve(g)
+        try:
+            d = -self.solver.solve(g)
+        except SingularMatrix:  # a float32 Cholesky passed a matrix that double precision finds indefinite
+            self._remake(report)
+            d = -self.solver.solve(g)
         seconds = time.perf_counter() - t0
         report.seconds["solve"] += seconds
         self._cost["solve"] = seconds
         return d
+
+    def _remake(self, report) -> None:
+        """Factorise again, now in double precision, the Newton matrix the factorisation at hand was made of
+        (same iterate, time, multipliers and damping): "auto" falls back to its definite matrix, any other a
+        Levenberg-Marquardt shift (:meth:`factor_at`). Single precision cannot tell a nearly singular indefinite
+        matrix from a definite one: its Cholesky may pass where double precision's stops (the paper sheet of
+        ``deformable.scenes``, 1e6 N/m in stretching, compressed by the drawn rod, on FD 48 x 48 at t = 0.56 s)."""
+        x, t, damping = self.made
+        p, here, current = self.problem, self.here, self.damping
+        before = getattr(p, "t", None)
+        if before is not None:
+            p.t = t
+        self.damping = damping
+        self.factor_at(x, *self.factored, report)
+        if before is not None:
+            p.t = before
+        self.here, self.damping = here, current
 
     def cost(self, name: str) -> float:
         """The last measured seconds of a "hessian" (the Newton matrix's assembly), "factor", "solve" or

@@ -6,7 +6,7 @@ import scipy.sparse as sp
 
 import deformable as dm
 from deformable.algebra.solvers import available
-from deformable.errors import ConvergenceError
+from deformable.errors import ConvergenceError, SingularMatrix
 from deformable.solve.newton import Newton, NewtonSettings
 from deformable.solve.potential import FlatEnergy, flat, unflat
 from deformable.solve.search import WATCHDOG, LineSearch
@@ -78,6 +78,41 @@ def test_minimise_converges_quadratically_and_keeps_held_entries(solver):
     r = np.array(report.residuals)
     assert report.iterations == len(r) - 1 <= 8 and report.factorisations == report.iterations
     assert r[-2] < 1e-6 and r[-1] <= 10 * r[-2] ** 2  # quadratic near the end
+
+
+class FirstSolveFails:
+    """A solver whose first solve finds its factorisation unusable, as PARDISO's single-precision Cholesky does when
+    it passed a matrix that double precision then finds indefinite (SingularMatrix from ``solve``)."""
+
+    def __init__(self, inner):
+        self.inner, self.failed, self.factors = inner, False, 0
+
+    def factor(self, A):
+        self.factors += 1
+        self.inner.factor(A)
+        return self
+
+    def solve(self, b):
+        if not self.failed:
+            self.failed = True
+            raise SingularMatrix("PARDISO: the matrix is not positive definite (error -4)")
+        return self.inner.solve(b)
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+
+def test_a_solve_that_finds_its_factorisation_unusable_factorises_the_same_matrix_again():
+    """The paper sheet of deformable.scenes (1e6 N/m, compressed by the drawn rod) diverged with "the Newton matrix
+    is singular" from a solve: the float32 Cholesky had passed, double precision refused. The direction is then
+    taken from a new factorisation of the same matrix, and the minimisation goes on."""
+    p = cosh_problem()
+    newton = Newton(p, NewtonSettings(rtol=0.0, atol=1e-13, reuse=False))
+    stub = newton.directions.solver = FirstSolveFails(newton.directions.solver)
+    x, report = newton.minimise(p.phi, p.grad, np.zeros(4), label="test")
+    assert report.converged and stub.failed
+    np.testing.assert_allclose(x[1:], p.c[1:], rtol=0, atol=1e-12)
+    assert stub.factors == report.factorisations == report.iterations + 1  # the one made again, counted
 
 
 def test_a_factorisation_is_reused_while_it_contracts_and_not_across_solves_of_a_nonlinear_model():
