@@ -32,6 +32,11 @@ status "stalled" and its last good state. A run to ``t_end`` ends exactly there 
 schemes shorten their last step, and the semi-implicit scheme runs whole steps
 of its fixed dt and then one shorter step (with its own step matrix) when
 ``t_end - t`` is not a whole number of steps (to within 1e-6 of a step).
+The same holds for the times a run's trackers ask for
+(:meth:`~deformable.dynamics.trackers.Tracker.next_time`: the XDMF writer's frame times): the step that
+would pass one is shortened to end on it, and whole steps go on from there, so a frame is a state of the
+run at its time, not one interpolated between two steps. A run whose dt divides those intervals (to 1e-6
+of a step), and a run whose trackers ask for no time, takes the same steps as before, bit for bit.
 
 Bounds on work. ``dt`` is at least :data:`DT_MIN` (below it M/dt^2 swamps every
 stiffness in double precision and a step moves nothing); a run is at most
@@ -54,13 +59,13 @@ import numpy as np
 from ..algebra.solvers import one_blas_thread
 from ..checks import count, known_keys, real
 from ..errors import DivergenceError, InputError, ResourceError, StalledError, StepRejected
-from ..physics.force_models import stretching_step
+from .dt import DT_MIN, resolve_dt, round_down
 from .implicit_euler import ImplicitEuler
 from .newmark import Newmark
 from .scheme import Scheme
 from .semi_implicit import SemiImplicit
 from .state import RunResult, State
-from .trackers import DivergenceGuard, ProgressBar, Stop, Tracker
+from .trackers import REMAINDER, DivergenceGuard, ProgressBar, Stop, Tracker, landing, next_stop
 
 __all__ = ["DT_MIN", "GROW_AFTER", "MAX_STEPS", "SCHEMES", "TARGET_ITERATIONS", "TimeStepper", "round_down"]
 
@@ -74,22 +79,8 @@ GROW_AFTER = 4
 #: with dt = "auto", the implicit schemes also aim at this many Newton iterations a step: dt halves after a step
 #: that took more than twice as many, and grows by half after one that took at most half as many
 TARGET_ITERATIONS = 4
-#: the implicit schemes' "auto" dt, in units of the explicit stretching bound
-_IMPLICIT_AUTO = 10.0
-#: the smallest time step (s) a stepper accepts
-DT_MIN = 1e-12
 #: the most steps a run may take unless :attr:`TimeStepper.max_steps` is raised (or None)
 MAX_STEPS = 10**7
-#: a remainder of t_end - t below this fraction of dt is no step
-_REMAINDER = 1e-6
-
-
-def round_down(x: float, digits: int = 2) -> float:
-    """x rounded down to ``digits`` significant digits (a step never above the bound it comes from)."""
-    if not np.isfinite(x) or x <= 0:
-        return x
-    scale = 10.0 ** (np.floor(np.log10(x)) - digits + 1)
-    return float(np.floor(x / scale * (1 + 1e-12)) * scale)
 
 
 class TimeStepper:
@@ -148,7 +139,7 @@ class TimeStepper:
         kind.check(force_model)
         self.model, self.scheme = model, scheme
         self.auto = isinstance(dt, str) and dt == "auto"
-        self.dt = self._resolve_dt(dt)
+        self.dt = resolve_dt(model, Scheme.lookup(self.scheme).implicit, dt)
         if dt_min is None:
             dt_min = self.dt / 2**10
         if isinstance(dt_min, bool) or not isinstance(dt_min, (int, float)) or not 0 < dt_min <= self.dt:
@@ -170,32 +161,6 @@ class TimeStepper:
         Scheme.lookup(self.scheme).check(model.scene.force_model)
         self._scheme.retune(model)
         self.model = model
-
-    def _resolve_dt(self, dt) -> float:
-        model = self.model
-        if isinstance(dt, str) and dt == "auto":
-            if not Scheme.lookup(self.scheme).implicit:
-                bound = model.stable_step()
-                if not np.isfinite(bound):
-                    raise InputError(f"dt 'auto': the {model.scene.force_model} model's semi-implicit step has no "
-                                     "stretching bound; give dt")
-                return round_down(0.5 * bound)
-            mat, h = model.scene.nodal_material(), min(model.scene.sheet.h)
-            weight = np.asarray(model.scene.force_model.stretching_weight(mat))
-            bound = stretching_step(float(np.min(mat.mu)), float(np.max(weight)) if weight.size else 0.0, 4 / h**2)
-            if not np.isfinite(bound):
-                raise InputError("dt 'auto' needs a stretching weight to set the step; give dt")
-            return round_down(_IMPLICIT_AUTO * bound)
-        try:
-            dt = float(dt)
-        except (TypeError, ValueError):
-            raise InputError(f"dt must be a positive number or 'auto', got {dt!r}") from None
-        if not np.isfinite(dt) or dt <= 0:
-            raise InputError(f"dt must be positive and finite, got {dt!r}")
-        if dt < DT_MIN:
-            raise InputError(f"dt must be at least {DT_MIN:g} s (below it M/dt^2 swamps every stiffness in double "
-                             f"precision), got {dt!r}", field="dt", value=dt)
-        return dt
 
     @property
     def timings(self) -> dict:
@@ -353,22 +318,50 @@ class TimeStepper:
         (each with the last good state).
         """
         state = X0 if isinstance(X0, State) else self.start(X0, V0, t0)
-        if isinstance(X0, State) and not hasattr(self, "_X0"):
-            self._X0 = X0.X
+        for state, _ in self._iterate(state, steps, t_end):
+            yield state
+
+    def _iterate(self, state: State, steps: int | None, t_end: float | None, stops=None,
+                 planned: int | None = None) -> Iterator[tuple[State, bool]]:
+        """:meth:`iterate` from ``state``, each state with whether it is the last; ``stops(state)``: the next time
+        (s) a tracker asks for, or None, on which a step is to end (:meth:`_landing`).
+
+        ``planned``: the step number a run to ``t_end`` of an adaptive scheme was planned to end on
+        (:meth:`length`); the state that reaches it is also called the last, as it was before steps landed on
+        trackers' times (a run without such steps is the same run, its trackers called at the same states).
+        """
+        if not hasattr(self, "_X0"):
+            self._X0 = state.X
+        taken, landed = 0, False
         if t_end is not None and not self._scheme.adaptive:
             full, last = self._plan(state, t_end)
-            for _ in range(full if steps is None else min(steps, full)):
-                state = self.step(state)
-                yield state
-            if last and (steps is None or steps > full):
-                state = self.step(state, t_end - state.t)
-                yield state
+            while (full or last) and (steps is None or taken < steps):
+                dt = self._landing(state, stops, t_end)
+                if dt is not None:  # a step onto a tracker's time; then whole steps from there again
+                    state = self.step(state, dt)
+                    full, last = self._plan(state, t_end)
+                elif full:
+                    state, full = self.step(state), full - 1
+                else:
+                    state, last = self.step(state, t_end - state.t), False
+                taken += 1
+                yield state, not (full or last) or taken == steps
             return
-        taken = 0
         while (steps is None or taken < steps) and (t_end is None or t_end - state.t > 1e-12 * max(1.0, t_end)):
-            state = self.step(state, None if t_end is None else t_end - state.t)
+            dt = self._landing(state, stops, t_end)
+            landed = landed or dt is not None
+            if dt is None and t_end is not None:
+                dt = t_end - state.t
+            state = self.step(state, dt)
             taken += 1
-            yield state
+            ended = t_end is not None and t_end - state.t <= 1e-12 * max(1.0, t_end)
+            yield state, ended or taken == steps or (not landed and state.step == planned)
+
+    def _landing(self, state: State, stops, t_end: float | None) -> float | None:
+        """The step (s) from ``state`` onto the next time a tracker asks for, ``stops(state)``
+        (:func:`~deformable.dynamics.trackers.landing`), or None."""
+        stop = None if stops is None else stops(state)
+        return landing(stop, state.t, self.dt_now if self._scheme.adaptive else self.dt, t_end)
 
     def _plan(self, state: State, t_end) -> tuple[int, bool]:
         """Whole steps of dt from ``state`` to ``t_end``, and whether a shorter last step follows."""
@@ -381,7 +374,7 @@ class TimeStepper:
             raise ResourceError(f"t_end = {t_end!r} s is {q:.3g} steps of dt = {self.dt:g} s away", field="t_end",
                                 value=t_end)
         n = round(q)
-        if abs(q - n) <= _REMAINDER:
+        if abs(q - n) <= REMAINDER:
             return n, False
         return int(np.floor(q)), True
 
@@ -391,6 +384,9 @@ class TimeStepper:
 
     def length(self, t: float, *, t_end: float | None = None, steps: int | None = None) -> int:
         """The steps a run from time ``t`` takes (the requested ones of an adaptive run), checked.
+
+        Steps shortened to end on the times trackers ask for are not counted (at most one more for each such time
+        that no whole step reaches).
 
         Exactly one of ``t_end`` and ``steps``; InputError for a bad value, ResourceError beyond
         :attr:`max_steps`. :meth:`run` calls it first; a caller can check a run before it writes anything.
@@ -428,6 +424,8 @@ class TimeStepper:
         the result holds the last good state. ``progress``: True (or a name to
         start its lines with) adds a :class:`~deformable.dynamics.trackers.ProgressBar`:
         a bar on a terminal, a timestamped line each tenth of the run elsewhere.
+        A step that would pass a time a tracker asks for (its ``next_time``) is shortened to end on it
+        (module docstring); such steps count among the run's ``steps``.
         """
         state = self.start(X0, V0, t0)
         if resume is not None:
@@ -458,10 +456,10 @@ class TimeStepper:
         self._trackers = trackers
         status, message = "finished", ""
         start = time.perf_counter()
-        last = state.step + expected
+        timed = [tr for tr in trackers if callable(getattr(tr, "next_time", None))]
+        stops = (lambda s: next_stop(timed, s)) if timed else None
         try:
-            for new in self.iterate(state, steps, t_end=t_end):
-                final = new.step == last or (t_end is not None and t_end - new.t <= 1e-12 * max(1.0, t_end))
+            for new, final in self._iterate(state, steps, t_end, stops, state.step + expected):
                 stop = None
                 for tr in trackers:
                     if new.step % tr.every == 0 or final:
@@ -490,3 +488,4 @@ class TimeStepper:
         if status in ("diverged", "stalled"):
             log.warning("run %s; last good state at t = %.6g s", message, state.t)
         return result
+

@@ -5,6 +5,12 @@ Each tracker has a cadence ``every`` (in steps) and three hooks:
 ``finalize(result)``. Returning a :class:`Stop` from ``handle`` ends the run;
 ``Stop(diverged=True)`` discards the state just computed and hands back the
 previous one.
+
+A tracker may also ask for states at times of its own, ``next_time(state) -> float | None``
+(:meth:`Tracker.next_time`): :meth:`deformable.TimeStepper.run` then ends a step on each of them, shortening
+the step that would pass it as it shortens the last step before ``t_end``, so that the tracker handles a
+state of the run at that time (the XDMF writer's frames every ``interval`` seconds:
+:class:`deformable.io.XDMFWriter`).
 """
 
 from __future__ import annotations
@@ -19,9 +25,37 @@ from ..checks import count, function, known_keys, real
 from ..contact.selfmesh import ContactMesh
 from ..errors import InputError
 
-__all__ = ["Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "SelfContactMonitor", "Stop", "Tracker"]
+__all__ = ["Callback", "DivergenceGuard", "EnergyMonitor", "ProgressBar", "REMAINDER", "SelfContactMonitor", "Stop",
+           "Tracker", "landing", "next_stop"]
 
 log = logging.getLogger(__name__)
+#: a time a run is asked to reach (its t_end, a tracker's :meth:`~Tracker.next_time`) that lies within this fraction
+#: of a step of the state a step of that length ends on is reached by that state: the round-off of summing dt, not
+#: a further step to take
+REMAINDER = 1e-6
+
+
+def next_stop(trackers, state) -> float | None:
+    """The earliest of the trackers' :meth:`Tracker.next_time` after ``state`` (s), or None."""
+    times = [real(f"{type(tr).__name__}.next_time", t) for tr in trackers if (t := tr.next_time(state)) is not None]
+    return min(times, default=None)
+
+
+def landing(stop: float | None, t: float, whole: float, t_end: float | None) -> float | None:
+    """The step (s) from time ``t`` that ends on ``stop`` (a time a tracker asks for) when a whole step ``whole``
+    would pass it; None when it would not, when nothing is asked, or when ``stop`` is the run's end (on which the
+    stepper's own rule ends).
+
+    A time within :data:`REMAINDER` of a whole step of ``t``, or of where a whole step ends, is taken as reached
+    by it: the round-off of summing dt. A run whose dt divides the trackers' intervals therefore takes the same
+    whole steps as one without them, bit for bit.
+    """
+    if stop is None or (t_end is not None and stop >= t_end - REMAINDER * whole):
+        return None
+    gap = stop - t
+    if gap <= REMAINDER * whole or gap >= (1 - REMAINDER) * whole:
+        return None
+    return gap
 
 
 @dataclass(frozen=True)
@@ -41,6 +75,16 @@ class Tracker:
         self.stepper = stepper
 
     def handle(self, state) -> Stop | None:
+        return None
+
+    def next_time(self, state) -> float | None:
+        """The next time (s) after ``state.t`` at which this tracker wants a state of the run, or None (the default).
+
+        :meth:`deformable.TimeStepper.run` asks it before each step and shortens a step that would pass that
+        time so that it ends on it (to round-off; a whole step that ends within :data:`REMAINDER` of its length
+        before it is on it). A tracker that asks should handle every step (``every = 1``): the state at its time
+        is then among those it sees.
+        """
         return None
 
     def finalize(self, result) -> None:

@@ -24,12 +24,22 @@ point fields
   run measures it from the original start, not from the resume point.
 
 Cadence. A frame every ``every`` steps, or every ``interval`` seconds of
-simulated time (the first step at or past each multiple of the interval, so
-the number of frames does not depend on the backend's dt), plus the first and
-the last state. Frame times are the step times rounded to 12 significant
-digits, which removes the round-off of summing dt (2.0, not
-1.9999999999998905). Each frame says what it is in an XDMF ``Information``
-element (``frame``: ``first``, ``cadence`` or ``last``), which readers skip.
+simulated time, plus the first and the last state. With an ``interval`` the
+frames are on its multiples: the writer asks the stepper for each of them
+(:meth:`~deformable.dynamics.trackers.Tracker.next_time`), and
+:meth:`deformable.TimeStepper.run` shortens the step that would pass one so
+that a step ends on it, as it ends a run on ``t_end``. A frame is thus a state
+of the run, never interpolated between two steps, and the number of frames
+does not depend on the backend's dt (``interval = 0.1`` with dt = 0.011 s:
+frames at 0.1, 0.2, ..., each after a step of 0.001 s, where they used to fall
+on the first step past each multiple, 0.11, 0.209, 0.308, ...). A run whose dt
+divides the interval takes the same steps as without the writer, bit for bit.
+Driven by another loop that does not ask (``handle`` called state by state),
+the writer writes the first state at or past each multiple. Frame times are
+the step times rounded to 12 significant digits, which removes the round-off
+of summing dt (2.0, not 1.9999999999998905). Each frame says what it is in an
+XDMF ``Information`` element (``frame``: ``first``, ``cadence`` or ``last``),
+which readers skip.
 
 Resume. ``append=True`` continues an existing series: the frames after the
 state the run resumes from are dropped (with a warning that says how many),
@@ -67,7 +77,7 @@ from pathlib import Path
 import numpy as np
 
 from ..checks import count, real
-from ..dynamics.trackers import Tracker
+from ..dynamics.trackers import REMAINDER, Tracker
 from ..errors import InputError, WriteError
 from ..geometry.compatibility import check_compatibility
 from ..limits import DATASET_BYTES, check_room
@@ -170,7 +180,8 @@ class XDMFWriter(Tracker):
     every : int
         Cadence in steps (default 1), when no ``interval`` is given.
     interval : float, optional
-        Cadence in simulated time (s): a frame at the first step at or past each multiple of it.
+        Cadence in simulated time (s): a frame at each multiple of it, on which the stepper ends a step
+        (module docstring).
     reference : array (ndof, 3), optional
         The positions ``displacement`` is measured from (default: the first state's); a resumed run
         passes its original start.
@@ -231,6 +242,7 @@ class XDMFWriter(Tracker):
         self._gzip = M * N > COMPRESS_NODES if self.compress is None else self.compress
         self.P0 = self.fields.positions(state.X if self.reference is None else self.reference)
         self._next = None if self.interval is None else self._after(state.t)
+        self._t = state.t  # the time of the last state seen (s)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             if self.append and self.path.exists():
@@ -315,14 +327,20 @@ class XDMFWriter(Tracker):
         self._last_step = state.step
         self._flush()
 
+    def next_time(self, state):
+        """The next frame time (s), a multiple of ``interval``, on which the stepper is to end a step (None without
+        an interval)."""
+        return self._next
+
     def handle(self, state):
+        step, self._t = state.t - self._t, state.t
         if state.step == self._last_step:
             return
         if self.interval is None:
             self._frame(state, "cadence" if state.step % self._step_cadence == 0 else "last")
-        elif state.t >= self._next - 1e-9 * self.interval:
+        elif state.t >= self._next - max(1e-9 * self.interval, REMAINDER * step):  # the stepper's rule of reaching it
             self._frame(state, "cadence")
-            self._next = self._after(state.t)
+            self._next = self._after(max(state.t, self._next))
 
     def finalize(self, result):
         if self._h5 is None:
