@@ -68,7 +68,7 @@ from deformable.errors import DivergenceError, InputError, StalledError
 from deformable.geometry import check_compatibility
 from deformable.geometry.compatibility import check_rest_state
 
-from .harness.backends import backend_dt, make_model
+from .harness.backends import run_model
 
 __all__ = ["FPS", "MACRO", "MICRO", "READOUT_EVERY", "Frame", "Knob", "Producer", "Readout", "Session", "Window"]
 
@@ -196,9 +196,10 @@ class Session:
 
     def _build(self, config) -> None:
         self.config = config
-        self.model = make_model(scenes.build(config), self.backend)
+        built = run_model(config, self.backend, nodes=config.nodes)  # the grid, model and dt a run takes
+        self.model = built.model
         self.rest = rest_verdict(self.model.scene)
-        self.stepper = dm.TimeStepper(self.model, backend_dt(self.model, config.dt))
+        self.stepper = dm.TimeStepper(self.model, built.config.dt)
         self.stable, self.resolution = self._stable_step(), self._resolution()
         self.X0 = self.model.initial_state()
 
@@ -214,8 +215,8 @@ class Session:
         values = self._with_fabric(values)
         config = self.config.replace(**{"nodes": self.config.nodes, **values})  # the running grid (a fabric's own
         # grid, where a scene picks one, is for a new run: the stepper is retuned on the same grid)
-        model = make_model(scenes.build(config), self.backend)
-        dt = backend_dt(model, config.dt)
+        built = run_model(config, self.backend, nodes=config.nodes)
+        model, dt = built.model, built.config.dt
         if dt == self.stepper.dt:
             self.stepper.retune(model)
         else:

@@ -69,9 +69,9 @@ def configure(parser) -> None:
     parser.add_argument("--self-time", default="2", metavar="T",
                         help="self-contact rows: seconds of the curtain's motion (default: 2, its whole run)")
     parser.add_argument("--bar", action="store_true",
-                        help="the curtain bar: the shipped curtain on --bar-grid nodes for --bar-time s in fixed-matrix "
-                        "SuperLU factor+solves per simulated second, with its Newton error against dt vs dt/2 "
-                        "(default: off)")
+                        help="the curtain bar: the shipped curtain on --bar-grid nodes for --bar-time s in "
+                        "fixed-matrix SuperLU factor+solves per simulated second, with its Newton error against dt vs "
+                        "dt/2 (default: off)")
     parser.add_argument("--bar-grid", default="48", metavar="N", help="the curtain bar: FD nodes a side (default: 48)")
     parser.add_argument("--bar-time", default="0.5", metavar="T",
                         help="the curtain bar: seconds of motion (default: 0.5)")
@@ -312,8 +312,8 @@ def _realtime(args, backends) -> int:
     name = str(args.realtime).strip()
     if name not in scenes.SCENES:
         raise InputError(f"--realtime: unknown scene {name!r}; known: {', '.join(scenes.SCENES)}")
+    M, N = parse_grid(args.grid)  # (its message names --grid)
     try:
-        M, N = parse_grid(args.grid)
         scenes.build(scenes.config(name, nodes=(M, N)))  # a grid the scene refuses (its margins), in a millisecond
     except InputError as err:
         raise InputError(f"--grid: {err}") from None

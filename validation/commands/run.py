@@ -10,9 +10,15 @@ r"""``deformable run``: run a scene, write an XDMF time series, pictures and che
 The scene is a name of :data:`deformable.scenes.SCENES` or a TOML file
 (``scene = "curtain"`` plus fields; :func:`deformable.scenes.read_toml`).
 ``KEY=VALUE`` sets any field of the scene's config (``eta=25``,
-``nodes=[16,16]``, ``force_model=frozen``; values are TOML, a bare word is a
-string); the options --grid, --dt, --force-model override last (their
-definitions, :func:`run_options`, are shared with ``deformable sweep``).
+``nodes=16x16``, ``force_model=frozen``; values are TOML, a bare word is a
+string; the grid ``nodes`` is ``MxN``, ``[M, N]`` or ``N``, read as
+``deformable sweep`` reads it: :func:`parse_grid`); the options --grid, --dt,
+--force-model override last (their definitions, :func:`run_options`, are
+shared with ``deformable sweep``). A grid not set (by ``nodes=``, --grid, the
+scene file or the checkpoint) is the scene's, written in FD's nodes, taken in
+the backend's unit: FE half as many elements a side. The grid, model and dt
+come from :func:`validation.harness.backends.run_model`, as each case of a
+sweep takes them: the same scene and backend give the same grid.
 ``--show-config`` prints every field of the resolved config (value, default,
 unit, meaning: the config classes' docstrings, :mod:`deformable.scenes.fields`)
 and exits without running. ``--compress`` / ``--no-compress`` gzip the series'
@@ -95,9 +101,10 @@ from deformable.io.series import continuation
 from deformable.limits import check_series
 from deformable.physics.force_models import ForceModel
 from validation.harness import drape
-from validation.harness.backends import backend_dt, descriptor, make_model
+from validation.harness.backends import descriptor, run_model
 
-__all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "Run", "prepare", "resolve", "simulate",
+__all__ = ["configure", "execute", "parse_grid", "parse_overrides", "scene_config", "scene_source", "sets_grid",
+           "Run", "prepare", "resolve", "simulate",
            "RUN_KEYS", "DEFAULT_EVERY", "run_options", "backend_option", "force_model_option", "show_config_option",
            "print_config", "check_backend", "check_force_model", "option_fields"]
 
@@ -117,7 +124,7 @@ def configure(parser) -> None:
                         help=f"a scene name ({', '.join(scenes.SCENES)}) or a TOML scene file, e.g. a run's resolved "
                         "config (default with --resume: the checkpoint's scene)")
     parser.add_argument("overrides", metavar="KEY=VALUE", nargs="*", default=[],
-                        help="set a field of the scene's config, e.g. eta=25 nodes=[16,16] force_model=frozen "
+                        help="set a field of the scene's config, e.g. eta=25 nodes=16x16 force_model=frozen "
                         "(values are TOML; default: none)")
     run_options(parser)
     parser.add_argument("--out", default=None,
@@ -231,22 +238,32 @@ def option_fields(args, dt=None, t_end: bool = True) -> dict:
 
 
 # -- parsing -------------------------------------------------------------------------
-def parse_grid(text: str) -> tuple[int, int]:
-    """``"MxN"`` -> (M, N); InputError unless two integers >= 3."""
-    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", str(text))
+#: a node grid as text: MxN, or a TOML array [M, N] (as a scene file and the resolved config write it)
+GRID = re.compile(r"\s*(\d+)\s*[xX]\s*(\d+)\s*|\s*\[\s*(\d+)\s*,\s*(\d+)\s*,?\s*\]\s*")
+
+
+def parse_grid(text: str, field: str = "--grid", square: bool = False) -> tuple[int, int]:
+    """A node grid (M, N) from ``"MxN"`` or ``"[M, N]"``; with ``square`` (the KEY=VALUE form of run and sweep,
+    ``nodes=...``) also ``"N"`` for N x N. The one grid grammar of the commands. InputError naming ``field``
+    unless two integers >= 3."""
+    text = str(text)
+    m = GRID.fullmatch(text) or (re.fullmatch(r"\s*(\d+)\s*", text) if square else None)
     if not m:
-        raise InputError(f"malformed grid {text!r}: expected MxN, e.g. 32x32", field="--grid", value=text)
-    M, N = int(m.group(1)), int(m.group(2))
+        raise InputError(f"{field}: malformed grid {text!r}: expected MxN or [M, N], e.g. 32x32"
+                         + (" (or N for NxN)" if square else ""), field=field, value=text)
+    numbers = [int(g) for g in m.groups() if g is not None]
+    M, N = numbers if len(numbers) == 2 else numbers * 2
     if min(M, N) < 3:
-        raise InputError(f"grid {text!r} needs at least 3 nodes a side", field="--grid", value=text)
+        raise InputError(f"{field}: grid {text!r} needs at least 3 nodes a side", field=field, value=text)
     return M, N
 
 
 def parse_overrides(items) -> dict:
-    """``["eta=25", "nodes=[16,16]", "force_model=frozen"]`` -> a dict of scene fields.
+    """``["eta=25", "nodes=16x16", "force_model=frozen"]`` -> a dict of scene fields.
 
-    Values are TOML, a bare word is text. InputError for an item without ``=`` or a key given twice; unknown
-    keys are refused by the scene's config.
+    Values are TOML, a bare word is text; ``nodes`` is a grid, ``MxN``, ``[M, N]`` or ``N`` (:func:`parse_grid`,
+    as ``deformable sweep`` reads it). InputError for an item without ``=``, a malformed grid or a key given
+    twice; unknown keys are refused by the scene's config.
     """
     out = {}
     for item in items:
@@ -256,6 +273,9 @@ def parse_overrides(items) -> dict:
             raise InputError(f"expected KEY=VALUE, e.g. eta=25, got {item!r}", field="KEY=VALUE", value=item)
         if key in out:
             raise InputError(f"scene field {key} is given twice on the command line", field=key, value=text)
+        if key == "nodes":
+            out[key] = parse_grid(text, field=key, square=True)
+            continue
         try:
             value = tomllib.loads(f"v = {text}")["v"]
         except tomllib.TOMLDecodeError:
@@ -271,11 +291,17 @@ def scene_config(scene: str, **overrides) -> scenes.SceneConfig:
     return scenes.config(scene, **overrides)
 
 
-def _source(scene: str) -> tuple[str | None, str]:
+def scene_source(scene: str) -> tuple[str | None, str]:
     """(the text of a scene file, its name) or (None, a scene name)."""
     if not scene.endswith(".toml"):
         return None, scene
     return tomlio.read_text(scene, field="scene"), scene
+
+
+def sets_grid(text: str | None, source: str) -> bool:
+    """Whether a scene file's text (None for a scene name: no) sets the grid, ``nodes``: a grid so set is taken as
+    is on every backend (:func:`validation.harness.backends.run_grid`)."""
+    return text is not None and "nodes" in tomlio.loads(text, source)
 
 
 def positive(name: str, text, kind=float):
@@ -341,7 +367,7 @@ def resolve(args, dt: float | None = None):
         checkpoint = load_checkpoint(args.resume, t0=0.0)  # the command's runs start at t = 0
     if args.scene is None and checkpoint is None:
         raise InputError("name a scene or a scene file (or --resume a checkpoint)", field="scene", value=None)
-    text, source = (_source(args.scene) if args.scene is not None
+    text, source = (scene_source(args.scene) if args.scene is not None
                     else (checkpoint["config"], f"the checkpoint {args.resume}"))
     table = _table(text, source)
     fields_ = {**overrides, **cli}
@@ -349,21 +375,18 @@ def resolve(args, dt: float | None = None):
            else scenes.config(source, **fields_))
     backend = args.backend or table.get("backend") or (checkpoint["backend"] if checkpoint else "fd")
     check_backend(backend, "--backend" if args.backend else f"backend (the [run] table of {source})")
-    in_file = text is not None and "nodes" in tomlio.loads(text, source)
-    given = "nodes" in fields_ or in_file or checkpoint is not None
-    nodes = descriptor(backend).scene_nodes(cfg.nodes)
-    if not given and nodes != tuple(cfg.nodes):  # the scene's grid is FD's: FE takes half as many elements a side
+    given = "nodes" in fields_ or sets_grid(text, source) or checkpoint is not None
+    asked = cfg
+    cfg, scene, model = run_model(cfg, backend, nodes=cfg.nodes if given else None,
+                                  dt=cfg.dt if "dt" in fields_ else None)
+    if cfg.nodes != asked.nodes:  # the scene's grid is FD's: FE takes half as many elements a side
         log.info("%dx%d nodes (%dx%d %s) for the %s backend: the scene's %dx%d taken in its own unit (--grid "
-                 "sets it)", *nodes, nodes[0] - 1, nodes[1] - 1, descriptor(backend).grid, backend, *cfg.nodes)
-        cfg = cfg.replace(nodes=nodes)
-    scene = scenes.build(cfg)
-    model = make_model(scene, backend)
+                 "sets it)", *cfg.nodes, cfg.nodes[0] - 1, cfg.nodes[1] - 1, descriptor(backend).grid, backend,
+                 *asked.nodes)
     # the scenes' default dt is the FD one; a backend with a tighter stretching bound gets its own.
     # The bound comes from lagging alpha (eq. 25): the frozen and variational models have none (inf).
     bound = model.stable_step()
-    own = backend_dt(model, cfg.dt)
-    if "dt" not in fields_ and own != cfg.dt:
-        cfg = cfg.replace(dt=own)
+    if cfg.dt != asked.dt:
         log.info("dt = %g s for the %s backend (half its stretching bound %.3g s)", cfg.dt, backend, bound)
     if cfg.dt > bound:
         log.warning("dt = %g s exceeds the %s backend's stretching stability bound %.3g s "

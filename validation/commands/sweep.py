@@ -20,7 +20,11 @@ overrides of nodes, dt, t_end and force_model; a key given both as an option
 and as ``KEY=...`` is refused. Every combination, on every backend of
 ``--backend``, is one run (:mod:`validation.harness.sweep`), through the
 executor layer (:mod:`validation.harness.runner`): serial by default,
-``--jobs N`` local processes, or Dask with ``--scheduler``.
+``--jobs N`` local processes, or Dask with ``--scheduler``. A grid is
+``MxN``, ``[M, N]`` or ``N`` (as ``deformable run`` reads ``nodes=``); one not
+set (no ``nodes``, no --grid, none in the scene file) is the scene's, taken in
+each backend's unit as ``deformable run`` takes it (FE half as many elements a
+side): a case runs the grid and model the run of its config would.
 
 The cases are counted before any is built: a sweep of more than
 ``--max-cases`` (default 100 000), or a range of more values than that, is
@@ -78,7 +82,7 @@ from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
 from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, write_outputs
 
-from .run import check_backend, option_fields, parse_grid, run_options
+from .run import check_backend, option_fields, parse_grid, run_options, scene_config, scene_source, sets_grid
 from .validate import check_jobs, executor_options
 
 __all__ = ["configure", "execute", "fixed_options", "parse_axis", "parse_sweep"]
@@ -125,8 +129,8 @@ def _values(key: str, item: str, default, limit: int = MAX_CASES) -> list:
         if len(default) != 2:  # the obstacles: tables, not a pair of numbers
             raise InputError(f"a sweep cannot vary {key}: its value is a list of tables, not a number or a pair; "
                              "set it in a scene file", field=key, value=item)
-        if all(isinstance(v, int) for v in default):  # the node grid: MxN, or N for N x N
-            return [parse_grid(item if re.search("[xX]", item) else f"{item}x{item}")]
+        if all(isinstance(v, int) for v in default):  # the node grid: MxN, [M, N], or N for N x N
+            return [parse_grid(item, field=key, square=True)]
         parts = re.split(r"\s*[xX]\s*", item)
         if len(parts) > 2 or not all(parts):
             raise InputError(f"sweep value of {key} must be AxB or A (for AxA), got {item!r}", field=key, value=item)
@@ -165,7 +169,8 @@ def _values(key: str, item: str, default, limit: int = MAX_CASES) -> list:
 def parse_axis(base, text: str, limit: int = MAX_CASES) -> tuple[str, tuple]:
     """``"key=v1,v2,start:stop:num,..."`` -> (key, values) for the config ``base``; InputError on bad input.
 
-    Values are typed by the field's default: numbers; ``MxN`` (or ``N``) for the node grid; ``AxB``
+    Values are typed by the field's default: numbers; ``MxN``, ``[M, N]`` or ``N`` for the node grid
+    (:func:`validation.commands.run.parse_grid`, as ``deformable run`` reads ``nodes=``); ``AxB``
     (or ``A``) for the other pairs (size, rest_metric); text for the others (force_model); a value
     given twice counts once. A range has finite ends and at most ``limit`` values. Whether the scene
     accepts a value is decided by each case (a refused one is a failed row).
@@ -178,7 +183,8 @@ def parse_axis(base, text: str, limit: int = MAX_CASES) -> tuple[str, tuple]:
         raise InputError("the scene itself is not a sweep key: run one sweep per scene", field=key)
     known_keys([key], sorted(f.name for f in fields(base)), f"for scene {base.scene!r}")
     default = getattr(base, key)
-    values = dict.fromkeys(v for item in rest.split(",") for v in _values(key, item, default, limit))
+    items = re.split(r",(?![^\[]*\])", rest)  # commas between values, not inside a grid's [M, N]
+    values = dict.fromkeys(v for item in items for v in _values(key, item, default, limit))
     return key, tuple(values)
 
 
@@ -219,9 +225,10 @@ def fixed_options(args, items) -> dict:
 
 
 def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, max_cases: int = MAX_CASES,
-                fixed: dict | None = None) -> Sweep:
+                fixed: dict | None = None, grid_set: bool = False) -> Sweep:
     """The :class:`Sweep` of command-line text: ``items`` like ``"eta=10,20"``, ``backends`` like ``"fd,fe"``;
-    ``fixed`` the fields the options set (:func:`fixed_options`), axes of one value after the items'.
+    ``fixed`` the fields the options set (:func:`fixed_options`), axes of one value after the items';
+    ``grid_set`` the base's grid was set by its scene file (:attr:`Sweep.grid_set`).
 
     Raises InputError (one line naming the key and value) on bad input, and ResourceError (naming the count)
     for a sweep of more than ``max_cases`` cases, counted before any is built.
@@ -235,7 +242,7 @@ def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, 
         raise InputError(f"sweep key {twice[0]!r} is given twice; list all its values in one KEY=V1,V2,...",
                          field=twice[0])
     return Sweep(base, tuple(axes), _names(backends, check_backend), _names(measures, _measure) if measures else (),
-                 max_cases=limit)
+                 max_cases=limit, grid_set=grid_set)
 
 
 # -- the command -----------------------------------------------------------------------
@@ -252,9 +259,10 @@ def _case_time(records) -> float:
 def execute(args) -> int:
     """``deformable sweep``: 0; 1 when a case failed, with --fail-on-error when one did not finish, or when
     --compare-serial found the numbers differ (the last line on stderr says which)."""
-    base = scenes.read_toml(args.scene) if args.scene.endswith(".toml") else scenes.config(args.scene)
+    base = scene_config(args.scene)
     fixed = fixed_options(args, args.values)
-    sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases, fixed=fixed)
+    sweep = parse_sweep(base, args.values, args.backend, args.measure, args.max_cases, fixed=fixed,
+                        grid_set=sets_grid(*scene_source(args.scene)))
     runner = Runner(check_jobs(args.jobs, args.oversubscribe), progress=not getattr(args, "quiet", False),
                     scheduler=args.scheduler, progress_after=0.0)  # a line as each case is stored
     out = writable_folder(Path(args.out) if args.out else Path("sweeps") / base.scene)

@@ -7,13 +7,18 @@ every axis) when it is made, before any is built: a product above
 ``max_cases`` (default :data:`MAX_CASES`, 100 000) is refused with a
 :class:`~deformable.errors.ResourceError` naming the count (a sweep of 1e10
 cases used to build them until memory ran out).
-Every combination is a :class:`SweepCase`, run by :func:`run_case`: the scene
-built from the config, ``make_model(scene, backend)``, and
-:class:`deformable.TimeStepper` from the initial state to the config's t_end
-(eq. (22)-(27) for the tpbf87 and frozen force models, implicit Euler for the
-variational one), at the config's dt, or on a backend whose stretching bound is
-tighter at half that bound (:func:`~validation.harness.backends.backend_dt`,
-as ``deformable run`` does) unless dt was given.
+Every combination is a :class:`SweepCase`, run by :func:`run_case`: the grid,
+scene and model of the config on its backend by
+:func:`~validation.harness.backends.run_model` (the path ``deformable run``
+takes), and :class:`deformable.TimeStepper` from the initial state to the
+config's t_end (eq. (22)-(27) for the tpbf87 and frozen force models, implicit
+Euler for the variational one), at the config's dt, or on a backend whose
+stretching bound is tighter at half that bound
+(:func:`~validation.harness.backends.backend_dt`) unless dt was given. A grid
+not set (no ``nodes`` axis, no ``nodes`` in the scene file) is the scene's,
+written in FD's nodes, taken in the backend's unit
+(:func:`~validation.harness.backends.run_grid`: FE half as many elements a
+side), as ``deformable run`` takes it; a case's fields hold the grid it runs.
 
 Each case gives one row: its status (``finished``, ``diverged`` when the
 divergence guard stopped it, ``stopped``, ``stalled`` when an implicit step
@@ -64,7 +69,7 @@ from deformable import checks, scenes
 from deformable.dynamics.trackers import DivergenceGuard, Tracker
 from deformable.errors import InputError, ResourceError
 
-from .backends import backend_dt, descriptor, make_model
+from .backends import descriptor, run_grid, run_model
 from .report import csv_text, markdown_table
 from .runner import counted
 from .study import Table
@@ -189,8 +194,8 @@ def run_case(case: SweepCase) -> dict:
     record = {"key": case.key, "scene": case.scene, "backend": case.backend, "fields": dict(case.fields)}
     try:
         cfg = scenes.config(case.scene, **dict(case.fields))
-        model = make_model(scenes.build(cfg), case.backend)
-        dt = cfg.dt if case.dt_given else backend_dt(model, cfg.dt)
+        cfg, _, model = run_model(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt if case.dt_given else None)
+        dt = cfg.dt
         stepper = dm.TimeStepper(model, dt)
         X0 = model.initial_state()
         extremes = Extremes()
@@ -224,6 +229,8 @@ class Sweep:
     backends : ("fd",), ("fe",) or both
     measures : names of :data:`MEASURES`
     max_cases : the most cases allowed; more raise ResourceError (one line naming the count) on construction
+    grid_set : the base's grid was set (a scene file's ``nodes``): every backend takes it as is, as a ``nodes``
+        axis is; otherwise each backend takes the scene's grid in its own unit (:func:`run_grid`)
     """
 
     base: scenes.SceneConfig
@@ -231,6 +238,7 @@ class Sweep:
     backends: tuple = ("fd",)
     measures: tuple = ()
     max_cases: int = MAX_CASES
+    grid_set: bool = False
 
     def __post_init__(self):
         checks.count("--max-cases", self.max_cases)
@@ -257,13 +265,16 @@ class Sweep:
         return {k: v[0] for k, v in self.axes if len(v) == 1}
 
     def cases(self) -> list[SweepCase]:
-        """Every combination, backends first, then the axes in order (the last one fastest)."""
+        """Every combination, backends first, then the axes in order (the last one fastest); each case's
+        ``nodes`` the grid its backend runs (:func:`run_grid`)."""
         base = {f.name: getattr(self.base, f.name) for f in fields(self.base) if f.name != "scene"}
         dt_given = "dt" in dict(self.axes)
+        grid_set = self.grid_set or "nodes" in dict(self.axes)
         out = []
         for backend in self.backends:
+            own = base if grid_set else dict(base, nodes=run_grid(self.base.nodes, backend))
             for combo in itertools.product(*(v for _, v in self.axes)):
-                merged = dict(base, **dict(zip((k for k, _ in self.axes), combo)))
+                merged = dict(own, **dict(zip((k for k, _ in self.axes), combo)))
                 out.append(SweepCase(self.base.scene, tuple(sorted(merged.items())), backend, self.measures,
                                      dt_given))
         return out
@@ -299,7 +310,9 @@ class Sweep:
     def row(self, case: SweepCase, record: dict) -> tuple:
         fields_ = dict(case.fields)
         nan = float("nan")
-        get = lambda name: nan if record.get(name) is None else record[name]
+
+        def get(name):
+            return nan if record.get(name) is None else record[name]
         measures = record.get("measures") or {}
         return (case.backend, *(_cell(fields_[k]) for k in self.swept), record["status"], get("t"),
                 record.get("steps", ""), get("dt"), get("energy"), get("max_stretch"), get("max_speed"),
