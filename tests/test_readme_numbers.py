@@ -67,12 +67,12 @@ def test_the_readme_states_the_number_its_report_measured(claim):
 
 
 def test_the_params_output_the_readme_quotes_is_what_the_tool_prints(capsys):
-    """README's `deformable params curtain-silky` sentence: the scaled sheet's equivalent eta and xi as printed."""
+    """README's `deformable params curtain scale=20` sentence: the scaled sheet's equivalent eta and xi as printed."""
     from validation.commands import main
 
-    assert main(["params", "curtain-silky"]) == 0
+    assert main(["params", "curtain", "scale=20"]) == 0
     printed = re.search(r"moves as the real one would with (eta = \S+ N/m) and (xi = \S+ N m)", capsys.readouterr().out)
-    assert printed, "deformable params curtain-silky no longer says what scale does"
+    assert printed, "deformable params curtain scale=20 no longer says what scale does"
     eta, xi = printed.groups()
     eta_value = eta.split("= ")[1].split(" ")[0]
     text = " ".join(README.read_text().split())

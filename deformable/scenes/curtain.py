@@ -13,14 +13,21 @@ goes, identically on every grid and backend. The fold width then follows
 from the material, the bending length of a sheet held by its weight
 (:func:`deformable.scenes.scaling.fold_wavelength`).
 
-Real-world starting point (section 4): a curtain fabric of 0.2 kg/m^2, E h = 8 eta = 160 N/m, D = 2 xi =
-2e-4 N m (a bending length (D / (mu g))^(1/3) of 4.7 cm). Its folds (fold_wavelength 0.105 m) are resolved
-on the shipped 64 x 64 grid: the narrowest fold of 2 s is 5 grid spacings on FD 64 x 64, 3.75 on FE 32 x 32
-elements. The silky curtain's fold scale (0.050 m) spans 3 spacings, its median fold 6.6 (FD) and 4.5
-(FE), narrowing to 1-2 next to the drawn end, where the gathered cloth stacks (docs/design.md, Findings). A
-limp cloth (xi = 1e-5) folds at the grid scale on FD 48 x 48 (its narrowest late fold 1 h); on 80 x 80, where its
-fold scale spans 4.7 spacings, the narrowest fold of its last 0.4 s is 5 h (6.3 cm), while its first folds, during
-the draw, still narrow to 1 h (:mod:`deformable.scenes.params`).
+Real-world starting points (section 4): each of the three is a named fabric (``deformable fabrics``,
+:meth:`deformable.Fabric.preset`), its warp along the width a1, on the grid that resolves its folds (below).
+``curtain`` is denim (Wang, O'Brien and Ramamoorthi 2011: 324 g/m^2, tensile stiffness 411 / 2028 N/m and
+bending rigidity 97 / 64 micro N m warp / weft, bending lengths 3.1 / 2.7 cm); ``curtain-silky`` the
+lightest measured fabric, jacket-polyester (113 g/m^2, 86 / 343 N/m, 20 / 14 micro N m, 2.6 / 2.3 cm);
+``paper`` ARCSim's estimate for paper (100 g/m^2, 1e6 N/m, 400 micro N m, 7.4 cm; an estimate, not a
+measurement), stiffer in stretching and bending than every fabric preset. The paper's scaling recipe (section
+3.1: mu, gamma, f scaled, eta and xi with them) serves its semi-implicit scheme, whose stable step it raises;
+the implicit step here has no stability bound in eta or xi, so the scenes run at the real-world values
+(``scale = 1``). ``fabric=""`` drops the fabric and keeps its warp's values as the isotropic fields mu, eta and
+xi; the curtain before the fabrics, a bending length of 4.7 cm, stiffer than every measured fabric, is
+``fabric="" mu=0.2 eta=20 xi=1e-4 shear=1``. A limp cloth (that with ``xi=1e-5``) folds at the grid scale on
+FD 48 x 48 (its narrowest late fold 1 h); on 80 x 80, where its fold scale spans 4.7 spacings, the narrowest
+fold of its last 0.4 s is 5 h (6.3 cm), while its first folds, during the draw, still narrow to 1 h
+(:mod:`deformable.scenes.params`).
 
 Differences from the paper: its curtain is folded by "external forces
 perpendicular to the plane on the upper part" and its top restricted "to
@@ -50,11 +57,11 @@ that resolves that fabric's folds (:meth:`CurtainConfig.shipped_nodes`): the coa
 :data:`FABRIC_GRIDS` on which ``deformable params`` predicts the narrowest fold at least 3 grid
 spacings wide (:attr:`deformable.scenes.params.Parameters.resolved`: the fold scale
 (D H / (mu g))^(1/4) of the fabric's warp, Cerda and Mahadevan 2003, at least 4.5 grid spacings,
-as measured on this scene). Measured with ``deformable run curtain fabric=NAME`` on the grid it
-picks (FD, 2 s, one thread; the paper study's fold measure on the written frames every 0.1 s):
-denim on 64 x 64, its narrowest late fold 5 h = 7.9 cm (167 s CPU); jacket-polyester on 80 x 80,
-9 h = 11.4 cm (334 s; on 64 x 64 a ridge kinked at the grid scale, 1 h). An explicit
-``nodes`` (``--grid``, a scene file's) wins; without a fabric the scenes keep their grids.
+as measured on this scene): denim 64 x 64, jacket-polyester 80 x 80, paper 48 x 48. Measured with
+``deformable run curtain fabric=NAME`` on the grid it picks (FD, 2 s, one thread; the paper study's fold
+measure on the written frames every 0.1 s; docs/design.md, Findings): denim's narrowest late fold 5 h =
+7.9 cm (167 s CPU); jacket-polyester's 9 h = 11.4 cm (334 s; on 64 x 64 a ridge kinked at the grid scale,
+1 h). An explicit ``nodes`` (``--grid``, a scene file's) wins.
 """
 
 from __future__ import annotations
@@ -121,11 +128,12 @@ class CurtainConfig(SceneConfig):
 
     name = "curtain"
     rank = 1
-    summary = "curtain drawn open along its rod, folding by itself (Figs 3-4)"
+    summary = "a denim curtain drawn open along its rod, folding by itself (Figs 3-4)"
     size: tuple = (1.0, 1.2)
     nodes: tuple = (64, 64)
     gamma: float = 0.2
     xi: float = 1e-4
+    fabric: str = "denim"
 
     gather: float = 0.6
     draw_time: float = 1.6
@@ -231,41 +239,36 @@ class CurtainConfig(SceneConfig):
 
 @dataclass(frozen=True, kw_only=True)
 class SilkyCurtainConfig(CurtainConfig):
-    """Fig. 5: the curtain with mu, gamma and the forces scaled by 20 (section 3.1), on 64 x 64 nodes.
+    """Fig. 5, the silky curtain: the curtain in the lightest fabric measured (jacket-polyester, 113 g/m^2), on
+    the 80 x 80 nodes that resolve its folds (module docstring).
 
-    The paper's recipe (sections 3.1 and 4): scale the macro parameters mu, gamma, f, which raises the stable
-    bound of the micro parameters eta and xi by the same factor, and set those higher. By eq. (11) divided by
-    the scale the sheet moves as a real one with eta / 20 and xi / 20: here eta = 4000 N/m, a real-world
-    200 N/m (E h = 1600 N/m), so that it stretches little, and xi = the curtain's 1e-4 N m, a real-world
-    5e-6 N m: a light sheet with folds about 20^(1/4) = 2.1 times narrower than the curtain's. The largest
-    fibre stretch after 1 s sits at the drawn top corner, where the gathered edge hangs from a point; with eta
-    kept at 20 N/m (a real-world 1 N/m, the scene before issue 29) it was 58 % on FD 64 x 64, with 1200 N/m
-    4.1 % (FD) and 7.2 % (FE 32 x 32 el.), with 2000 and 3000 N/m 5.6 and 4.6 % (FE); the paper study
-    measures the shipped value's. The implicit step has no stability bound on eta; the paper's semi-implicit
-    scheme would need dt below about h sqrt(20 mu / (2 eta)) (``deformable params curtain-silky``). The paper
-    keeps xi = 0 here; under the variational model xi = 0 has no length scale and folds at grid scale, so the
-    silky curtain keeps the curtain's xi.
+    The paper makes its silky curtain by its scaling recipe (sections 3.1 and 4: mu, gamma, f scaled by 20, the
+    micro parameters with them), which its semi-implicit scheme needs for a stable step; under the implicit step
+    the real-world values run as they are. ``deformable params curtain-silky`` shows the step the semi-implicit
+    scheme would need. Its folds are the narrowest of the three curtains: the fold scale (D H / (mu g))^(1/4) is
+    6.8 cm, against denim's 7.8 and paper's 15 cm.
     """
 
     name = "curtain-silky"
     rank = 2
-    summary = "the curtain with mu, gamma, f scaled by 20 and eta with them (Fig. 5)"
-    scale: float = 20.0
-    eta: float = 4000.0
+    summary = "the curtain in the lightest measured fabric, jacket-polyester 113 g/m^2 (Fig. 5)"
+    nodes: tuple = (80, 80)
+    fabric: str = "jacket-polyester"
 
 
 @dataclass(frozen=True, kw_only=True)
 class PaperConfig(SilkyCurtainConfig):
-    """Fig. 6: the silky curtain with 16 times its curvature resistance (xi = 1.6e-3 N m), so that the fold
-    wavelength doubles ((16)^(1/4) = 2); its stretching weight is the silky curtain's (at 1200 N/m paper
-    stretched 6.2 % at the drawn corner after 1 s on FD 64 x 64, at 4000 N/m 3.7 %). The paper's xi = 3e-6
-    N m (under its force, 1.5e-6 N m in the variational model's terms) is below the silky curtain's xi here and
-    would make the paper *softer*."""
+    """Fig. 6, paper: the curtain in ARCSim's estimate for paper (100 g/m^2, 1e6 N/m in stretching, 400 micro
+    N m in bending), stiffer in both than every fabric preset, on 48 x 48 nodes (its fold scale 15 cm spans 7
+    spacings). Its folds are wider than the silky curtain's by the bending-length theory's ((D / mu) ratio)^(1/4)
+    = 22.2^(1/4) = 2.17; the paper study measures the ratio on both backends. The paper's own xi = 3e-6 N m
+    (section 5, under its scaling by 20) would make its paper softer than the silky fabric here."""
 
     name = "paper"
     rank = 3
-    summary = "the silky curtain with 16 times the curvature resistance (Fig. 6)"
-    xi: float = 16 * CurtainConfig.xi
+    summary = "the curtain in paper, stiffer in bending and stretching than every fabric (Fig. 6)"
+    nodes: tuple = (48, 48)
+    fabric: str = "paper"
 
 
 def hook_nodes(cfg: CurtainConfig) -> np.ndarray:

@@ -156,7 +156,7 @@ SCENE_CONFIG = {
     "gather 1": (lambda: scenes.config("curtain", gather=1.0), "gather"),
     "seed negative": (lambda: scenes.config("curtain", seed=-1), "seed"),
     "dt 1e-300": (lambda: scenes.config("curtain", dt=1e-300), "dt must be at least"),
-    "scaled mu overflows": (lambda: scenes.config("curtain", mu=1e308, scale=10.0), "scale * mu"),
+    "scaled mu overflows": (lambda: scenes.config("curtain", fabric="", mu=1e308, scale=10.0), "scale * mu"),
     "unknown field": (lambda: scenes.config("flag", wavelength=0), "unknown key 'wavelength'"),
     "frequency text": (lambda: scenes.config("flag", frequency="fast"), "frequency"),
     "frozen without alpha, beta": (lambda: scenes.config("hanging", force_model="frozen"), "alpha > 0 or beta > 0"),

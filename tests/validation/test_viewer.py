@@ -355,7 +355,7 @@ def test_the_readout_warns_where_the_grid_does_not_resolve_the_folds():
     resolved, the shipped curtain's xi on its own 64 x 64 grid is; a slider to the limp xi warns."""
     from deformable.scenes import parameters
 
-    s = Session(scenes.config("curtain", nodes=(12, 12), xi=1e-5), "fd")
+    s = Session(scenes.config("curtain", nodes=(12, 12), fabric="", xi=1e-5), "fd")
     assert not parameters(s.config, s.model, "fd").resolved
     assert "grid NOT resolving the folds" in s.readout().text()
     s.set(xi=1.0)

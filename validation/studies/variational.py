@@ -116,7 +116,8 @@ def make(scene: dm.Scene, backend: str):
 
 def run_case(case: Case) -> dict:
     if case.kind == "scene":
-        cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), xi=SCENE_XI, force_model=case.force_model)
+        cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), fabric="", xi=SCENE_XI,
+                            force_model=case.force_model)  # a named fabric's (the curtain's denim) values, at xi
         model = make_model(scenes.build(cfg), case.backend)
         dt = min(cfg.dt, 0.5 * model.stable_step()) if model.scene.force_model.lags_alpha else case.dt
         stepper = dm.TimeStepper(model, dt=dt, newton=NEWTON, solver=SOLVER)

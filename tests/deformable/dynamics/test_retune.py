@@ -24,7 +24,7 @@ def test_a_retuned_stepper_moves_as_a_new_one_with_the_new_material_and_keeps_it
         state = stepper.step(state)
     block = stepper.newton.directions._system
     version, analysis = block.version, getattr(stepper.newton.solver, "_pattern", None)
-    stiffer = _model(eta=4 * scenes.config("curtain").eta, gamma=0.5)
+    stiffer = _model(fabric="", eta=4 * scenes.config("curtain").eta, gamma=0.5)
     stepper.retune(stiffer)
     fresh = dm.TimeStepper(stiffer, 5e-3, newton=dict(solver=solver))
     fresh.start(model.initial_state())  # the same constraint reference

@@ -16,7 +16,32 @@ def test_each_scene_builds_with_the_energy_consistent_model_and_full_tensors(nam
     assert scene.force_model == "variational"
     cfg = spec.config()
     eta = scene.material.eta
-    assert eta[0, 1] == eta[1, 0] == cfg.shear * cfg.eta == eta[0, 0] and scene.material.xi[0, 1] == cfg.xi > 0
+    if cfg.fabric:  # the curtains: a named fabric's full tensors, warp and weft, its warp's in the fields
+        f_eta, f_xi = cfg.named_fabric().weights("variational")
+        np.testing.assert_array_equal(eta, f_eta)
+        np.testing.assert_array_equal(scene.material.xi, f_xi)
+        assert eta[0, 0] == cfg.eta and scene.material.xi[0, 0] == cfg.xi > 0 and eta[0, 1] > 0
+    else:
+        assert eta[0, 1] == eta[1, 0] == cfg.shear * cfg.eta == eta[0, 0] and scene.material.xi[0, 1] == cfg.xi > 0
+
+
+def test_the_curtains_are_named_fabrics_on_the_grids_that_resolve_them():
+    """curtain in denim, curtain-silky in the lightest measured fabric, paper in paper, stiffer in stretching and
+    bending than every fabric preset; each ships on the grid its fabric's folds ask for (CurtainConfig.shipped_nodes),
+    and is resolved there by params' rule."""
+    from deformable.scenes.params import parameters
+
+    fabrics = {n: dm.Fabric.preset(n) for n in dm.Fabric.presets()}
+    cloth = {n: f for n, f in fabrics.items() if n != "paper"}
+    expect = {"curtain": "denim", "curtain-silky": min(cloth, key=lambda n: cloth[n].density), "paper": "paper"}
+    for name, fabric in expect.items():
+        cfg = scenes.config(name)
+        assert cfg.fabric == fabric and cfg.scale == 1 and cfg.nodes == cfg.shipped_nodes()
+        assert parameters(cfg, FDModel(scenes.build(cfg)), "fd").resolved
+    paper = fabrics["paper"]
+    for f in cloth.values():
+        assert np.all(np.asarray(paper.bending) > np.max(f.bending)) and np.all(
+            np.asarray(paper.tensile) > np.max(f.tensile))
 
 
 @pytest.mark.parametrize("name", list(scenes.SCENES))
@@ -40,10 +65,9 @@ def test_module_functions_match_the_registry():
                      ("paper", scenes.paper), ("flag", scenes.flag), ("floor", scenes.floor), ("sphere", scenes.sphere),
                      ("drape", scenes.drape)]:
         assert fn(nodes=(8, 8)).name == name
-    silky, plain, paper = scenes.config("curtain-silky"), scenes.config("curtain"), scenes.config("paper")
-    assert silky.scale == 20 and silky.mu == plain.mu and silky.xi == plain.xi and silky.nodes == (64, 64)
-    assert paper.xi == 16 * silky.xi and paper.scale == silky.scale
-    assert scenes.curtain_silky(nodes=(8, 8)).material.mu == 20 * plain.mu
+    for name, fn in [("curtain", scenes.curtain), ("curtain-silky", scenes.curtain_silky), ("paper", scenes.paper)]:
+        cfg = scenes.config(name)
+        assert fn(nodes=(8, 8)).material.mu == cfg.scale * cfg.mu and fn().sheet.nodes == cfg.nodes
 
 
 @pytest.mark.parametrize("name", ["curtain", "curtain-silky", "paper"])
@@ -143,7 +167,8 @@ def test_fold_wavelength_scales_as_the_fourth_root_of_the_bending_stiffness():
 
 def test_toml_overrides_a_named_scene_and_round_trips(tmp_path):
     path = tmp_path / "c.toml"
-    path.write_text('scene = "curtain"\neta = 30.0\nnodes = [20, 24]\nrest_metric = [0.9, 1.0]\nseed = 4\n')
+    path.write_text('scene = "curtain"\nfabric = ""\neta = 30.0\nnodes = [20, 24]\n'
+                    'rest_metric = [0.9, 1.0]\nseed = 4\n')
     cfg = scenes.read_toml(path)
     assert cfg.scene == "curtain" and cfg.eta == 30.0 and cfg.nodes == (20, 24) and cfg.rest_metric == (0.9, 1.0)
     assert cfg.seed == 4 and cfg.gather == scenes.config("curtain").gather

@@ -18,7 +18,7 @@ def _params(name, backend="fd", **fields):
 
 
 def test_scale_multiplies_the_macro_group_and_leaves_the_micro_group():
-    cfg, p = _params("curtain-silky", nodes=(16, 16))
+    cfg, p = _params("curtain-silky", scale=20.0, nodes=(16, 16))
     macro = {q.name: q for q in p.macro}
     assert cfg.scale == 20 and macro["mu"].used == pytest.approx(20 * macro["mu"].real)
     assert macro["f"].real == pytest.approx(cfg.mu * cfg.g) and macro["f"].used == pytest.approx(20 * cfg.mu * cfg.g)

@@ -43,7 +43,7 @@ def test_every_field_of_every_scene_has_a_meaning_and_a_unit(name):
 
 def test_show_config_prints_every_field_marks_the_overrides_and_runs_nothing(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    code, out, _ = _main(["run", "curtain", "eta=25", "--grid", "8x8", "--show-config"], capsys)
+    code, out, _ = _main(["run", "curtain", "fabric=\"\"", "eta=25", "--grid", "8x8", "--show-config"], capsys)
     assert code == 0
     rows = {line.split()[0]: line for line in out.splitlines()[2:]}
     cfg = scenes.config("curtain")

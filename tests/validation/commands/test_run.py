@@ -46,7 +46,7 @@ def test_a_run_writes_a_series_that_meshio_reads_back(tmp_path, capsys):
 
 def test_a_scene_file_overrides_and_the_resolved_config_is_written(tmp_path, capsys):
     scene = tmp_path / "mine.toml"
-    scene.write_text('scene = "curtain"\neta = 25.0\nnodes = [10, 12]\n')
+    scene.write_text('scene = "curtain"\nfabric = ""\neta = 25.0\nnodes = [10, 12]\n')
     out_dir = tmp_path / "out"
     code, _, err = _run([str(scene), "--steps", "5", "--dt", "5e-4", "--out", str(out_dir)], capsys)
     assert code == 0, err

@@ -78,22 +78,22 @@ def test_a_claims_verdict_follows_its_checks():
 
 @pytest.mark.slow
 def test_the_quick_paper_study_fails_only_the_checks_its_measurements_do_not_support():
-    """The whole sweep at its quick level (about 25 min on two cores). The checks that fail as measured: the FE
-    fold ratio (issue 29: with eta = 4000 N/m FE's silky folds coarsen, paper / silky 1.10 on FE 32 x 32 el.
-    against (16)^(1/4) = 2); the fold-count exponents, not measurable from counts 2, 2, 1 over the one decade of xi
-    the grids resolve; the silky curtain's narrowest late fold, 1 grid spacing on FD 64 x 64 (unresolved where the
-    rod stacks the cloth). The test holds the study to reporting these, and nothing else, as failed."""
+    """The whole sweep at its quick level (about an hour on two cores). The checks that fail as measured (issue 45,
+    the curtains in named fabrics): the fold counts (5, 4, 2, 1 on FD) fall faster with xi than the theory's
+    xi^(-1/4), on FD and FE; FE 32 x 32 el. folds denim 2.75 grid spacings narrow once (params predicts it does not
+    resolve denim); the silky curtain's drawn corner stretches 6.8 % on FE 40 x 40 el. at 1 s. The test holds the
+    study to reporting these, and nothing else, as failed: the wavelength exponents and the paper / silky ratio
+    pass, and the silky curtain's and paper's narrowest late folds are at least 3 grid spacings."""
     res = STUDY.run(STUDY.levels.minimum)
     failed = {c.name: c.observed for c in res.checks if not c.passed}
-    allowed = {"section 5, paper against curtain-silky: fold wavelength ratio",
-               "section 5, curtain folds: FD fold count against xi",
+    allowed = {"section 5, curtain folds: FD fold count against xi",
                "section 5, curtain folds: FE fold count against xi",
-               "section 5, Figs 5-6: folds at least 3 grid spacings wide"}
+               "section 5, curtain folds: never narrower than 3 grid spacings",
+               "section 5, Figs 5-6: little stretching at t = 1 s"}
     assert set(failed) <= allowed, failed
-    for b in ("FD", "FE"):
-        name = f"section 5, curtain folds: {b} fold count against xi"
-        assert name not in failed or failed[name].startswith("not measurable"), failed
-    assert all(c.passed for c in res.checks if "fold wavelength against xi" in c.name)
+    assert all(c.passed for c in res.checks if "fold wavelength" in c.name or "at least 3 grid spacings" in c.name)
+    if "section 5, curtain folds: never narrower than 3 grid spacings" in failed:
+        assert "FD" not in failed["section 5, curtain folds: never narrower than 3 grid spacings"].split("not:")[1]
 
 
 def test_a_count_is_drawn_on_integer_ticks_of_a_linear_axis_and_legends_stay_off_the_data(monkeypatch):

@@ -134,8 +134,8 @@ def _runs(runner, cases: dict) -> dict:
 
 def fill(res, levels: int, runner) -> None:
     """The paper study; ``levels`` 1 is the quick set (claims 1-5: FD 12 x 12 nodes, FE 6 x 6 elements; section 5:
-    the flag on FD 32 x 32, FE 16 x 16 elements, the curtain family on FD 64 x 64, FE 32 x 32 elements: the
-    curtain's xi sweep with its own xi, curtain-silky and paper at theirs), 2 the full one."""
+    the flag on FD 32 x 32, FE 16 x 16 elements, the curtain and its xi sweep on FD 64 x 64, FE 32 x 32
+    elements, curtain-silky and paper on FD 80 x 80, FE 40 x 40 elements), 2 the full one."""
     s = SETTINGS[levels]
     cases = _cases(s)
     t0 = time.perf_counter()

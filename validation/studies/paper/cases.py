@@ -32,13 +32,15 @@ __all__ = ["Case", "render_points", "grid_label", "scene_grids", "run_case", "SE
 #: step at 1-2 ms, and the curtain folded by the paper's mechanism, forces perpendicular to the rest plane on its
 #: upper part with the top sliding on its rail (here with the six-fold pattern of the project's first curtain; the
 #: shipped scenes draw the curtain open under the energy-consistent model instead, deformable.scenes).
-_PAPER_CURTAIN = dict(force_model="tpbf87", shear=0.0, xi=0.0, gamma=0.5, gather=0.0, noise=0.0, push=3.0,
-                      folds=6.0, taper=0.5, dt=1e-3)
+#: Its starting values are the paper's section-4 sheet, not the shipped scenes' named fabrics: mu = 0.2 kg/m^2,
+#: eta = 20 N/m, and for the silky curtain and paper mu, gamma, f scaled by 20 (section 3.1).
+_PAPER_CURTAIN = dict(fabric="", mu=0.2, eta=20.0, force_model="tpbf87", shear=0.0, xi=0.0, gamma=0.5, gather=0.0,
+                      noise=0.0, push=3.0, folds=6.0, taper=0.5, dt=1e-3)
 PAPER = {
     "hanging": dict(force_model="tpbf87", shear=0.0, xi=0.0, dt=1e-3),
     "curtain": _PAPER_CURTAIN,
-    "curtain-silky": dict(_PAPER_CURTAIN, eta=100.0, dt=2e-3),
-    "paper": dict(_PAPER_CURTAIN, eta=100.0, xi=3e-6, dt=2e-3),
+    "curtain-silky": dict(_PAPER_CURTAIN, eta=100.0, scale=20.0, dt=2e-3),
+    "paper": dict(_PAPER_CURTAIN, eta=100.0, xi=3e-6, scale=20.0, dt=2e-3),
     # the swing at 4 Hz, as these claims were first measured (the shipped flag swings at 6 Hz since issue 13)
     "flag": dict(force_model="tpbf87", shear=0.0, xi=0.0, dt=1e-3, frequency=4.0),
 }
@@ -62,17 +64,19 @@ VISIBLE = 1e-2
 
 #: level 1 = --quick, level 2 = --full. The section-5 part measures the shipped scenes (deformable.scenes, their
 #: energy-consistent model): s5 = (FD nodes, FE nodes = elements + 1) of the flag, folds = the same for the
-#: curtain's xi sweep (fold_xis, and the curtain's own xi, whose runs carry the pictures), silky = the grids of
-#: curtain-silky and paper (quick: the 64 x 64 they ship on; full: finer), s5_t the simulated time (s). The
-#: quick sweep takes the xi whose folds FD 64 and FE 32 el. resolve (at least 3 grid spacings wide; FD's count
-#: converges from above to FE's there, docs/design.md, Findings); the full one takes five over the same decade
-#: (below it, at 1e-5 and 3e-5, no grid tried resolves the folds).
+#: curtain (its denim, whose runs carry the pictures, and its xi sweep: fold_xis with denim's density and warp
+#: stretching, isotropic), silky = the grids of curtain-silky and paper (quick: FD 80 x 80, the grid the silky
+#: curtain ships on, and FE 40 x 40 el.; full: finer), s5_t the simulated time (s). By ``deformable params``' rule
+#: (the fold scale l_f at least 4.5 grid spacings) FD 64 resolves every fold of the quick sweep (l_f = 4.9 h for
+#: denim's xi, 5.9 h at 1e-4 N m), FE 32 el. only from 3e-4 (l_f = 2.5, 3.0, 3.9, 5.3 h); FD 80 resolves
+#: the silky curtain (5.4 h), FE 40 el. does not (2.7 h); paper is resolved on both (12 and 6.0 h). The full sweep
+#: takes five xi over the same decade.
 SETTINGS = {
     1: dict(fd=12, fe=7, t_map=0.3, t_short=0.2, t_hang=0.5, t_sens=1.0,
             etas=(5.0, 20.0, 80.0, 320.0, 1280.0, 5120.0), xis=(0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1.0),
             dts=tuple(5e-4 * 2**k for k in range(7)), fd_grids=(8, 12, 16), fe_grids=(5, 7),
             sens_xis=(0.0, 1e-9, 1e-8, 1e-7, 3e-6, 1e-4, 1e-3),
-            s5=(32, 17), folds=(64, 33), silky=(64, 33), fold_xis=(1e-4, 3e-4, 1e-3), s5_t=2.0),
+            s5=(32, 17), folds=(64, 33), silky=(80, 41), fold_xis=(1e-4, 3e-4, 1e-3), s5_t=2.0),
     2: dict(fd=16, fe=9, t_map=0.5, t_short=0.3, t_hang=1.0, t_sens=2.0,
             etas=(5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 320.0, 640.0, 1280.0, 2560.0, 5120.0),
             xis=(0.0, 1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1.0, 3.0),
@@ -315,12 +319,15 @@ def scene_cases(s: dict) -> dict:
         """A run of a shipped scene; ``pictures``: keep its picture frames."""
         return Case("scene", scene, b, n, fields(**kw), t_end=T, times=picture if pictures else ())
 
-    xi0 = scenes.config("curtain").xi
     for b, n, nf in zip(("fd", "fe"), s["s5"], s["folds"]):
         for fm in ("variational", "tpbf87"):
-            # the paper's force also at section 5's xi = 0, where it is not ill-posed in bending (claim 3)
-            for xi in sorted({*s["fold_xis"], xi0} | ({0.0} if fm == "tpbf87" else set())):
-                c[("folds", "curtain", b, fm, xi)] = run("curtain", b, nf, pictures=xi == xi0, xi=xi, force_model=fm)
+            # the shipped curtain (its fabric, the pictures), and its fabric's density and warp stretching with xi
+            # swept, isotropic; the paper's force also at section 5's xi = 0, where it is not ill-posed in bending
+            # (claim 3)
+            own = scenes.config("curtain", force_model=fm).xi
+            c[("folds", "curtain", b, fm, own)] = run("curtain", b, nf, pictures=True, force_model=fm)
+            for xi in sorted(set(s["fold_xis"]) - {own} | ({0.0} if fm == "tpbf87" else set())):
+                c[("folds", "curtain", b, fm, xi)] = run("curtain", b, nf, fabric="", xi=xi, force_model=fm)
             c[("flag", b, fm)] = run("flag", b, n, pictures=fm == "variational", force_model=fm)
         c[("flag", b, "tpbf87", 0.0)] = run("flag", b, n, force_model="tpbf87", xi=0.0)
     for b, n in zip(("fd", "fe"), s["silky"]):

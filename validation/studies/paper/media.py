@@ -5,8 +5,9 @@ each, regenerable.
 
 Each scene of :mod:`deformable.scenes` runs as shipped (its own model,
 parameters, grid, t_end and dt) on the FD backend, on its own grid (the curtain
-family 64 x 64: their folds at least 3 grid spacings wide there, see the paper
-study's folds section; the coil 121 x 9); ``--nodes N`` runs every scene on N
+family on the grids that resolve their fabrics' folds, denim 64 x 64,
+jacket-polyester 80 x 80, paper 48 x 48: deformable.scenes.curtain; the coil
+121 x 9); ``--nodes N`` runs every scene on N
 nodes along a1 instead, its grid's aspect kept (N x N for a square one). It
 writes ``<scene>.gif`` and ``<scene>.png``, drawn by :mod:`deformable.io.render`:
 

@@ -42,7 +42,7 @@ def picture_runs(R: dict, scene: str, force_model: str = "variational") -> dict:
     """The runs of a scene that carry its frames, by backend (the flag's; the others' at the scene's own xi)."""
     if scene == "flag":
         return {b: R[("flag", b, force_model)] for b in BACKENDS}
-    return {b: R[("folds", scene, b, force_model, scenes.config(scene).xi)] for b in BACKENDS}
+    return {b: R[("folds", scene, b, force_model, scenes.config(scene, force_model=force_model).xi)] for b in BACKENDS}
 
 
 def decorations(scene: str) -> list:
