@@ -230,7 +230,7 @@ class Sweep:
     measures : names of :data:`MEASURES`
     max_cases : the most cases allowed; more raise ResourceError (one line naming the count) on construction
     grid_set : the base's grid was set (a scene file's ``nodes``): every backend takes it as is, as a ``nodes``
-        axis is; otherwise each backend takes the scene's grid in its own unit (:func:`run_grid`)
+    axis is; otherwise each backend takes the scene's grid in its own unit (:func:`run_grid`)
     """
 
     base: scenes.SceneConfig
