@@ -137,6 +137,8 @@ def _values(key: str, item: str, default, limit: int = MAX_CASES) -> list:
         pair = [_number(key, p) for p in parts]
         return [tuple(pair if len(pair) == 2 else pair * 2)]
     if isinstance(default, str):
+        if item in ("", '""', "''") and key == "fabric":  # no named fabric: the config's own mu, eta, xi, shear
+            return [""]
         if not item:
             raise InputError(f"sweep value of {key} is empty", field=key, value=item)
         return [item]

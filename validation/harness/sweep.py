@@ -248,6 +248,13 @@ class Sweep:
             raise ResourceError(f"a sweep of {self.base.scene} with {self.count} cases ({sizes}) is more than "
                                 f"--max-cases {self.max_cases}; sweep fewer values, or raise --max-cases",
                                 field="--max-cases", value=self.count)
+        axes = dict(self.axes)
+        fabrics = axes.get("fabric", (self.base.fabric,))
+        swept = sorted(set(axes) & set(self.base.FABRIC_FIELDS))
+        if swept and any(fabrics):
+            named = ", ".join(repr(f) for f in fabrics if f)
+            raise InputError(f"sweep key {swept[0]}: the fabric {named} sets mu, eta, xi and shear; add fabric=\"\" "
+                             f"to sweep {swept[0]} on its values", field=swept[0], value=str(axes[swept[0]])[:60])
 
     @property
     def count(self) -> int:
@@ -275,6 +282,8 @@ class Sweep:
             own = base if grid_set else dict(base, nodes=run_grid(self.base.nodes, backend))
             for combo in itertools.product(*(v for _, v in self.axes)):
                 merged = dict(own, **dict(zip((k for k, _ in self.axes), combo)))
+                if merged.get("fabric"):  # a named fabric stands for the fields it sets (as a scene file writes it)
+                    merged = {k: v for k, v in merged.items() if k not in self.base.FABRIC_FIELDS}
                 out.append(SweepCase(self.base.scene, tuple(sorted(merged.items())), backend, self.measures,
                                      dt_given))
         return out

@@ -206,3 +206,22 @@ def test_on_dask_the_numbers_are_those_of_a_serial_run(tmp_path, capsys, dask_sc
     out = capsys.readouterr().out
     assert f"on the Dask scheduler {address} (2 workers)" in out and "numbers bit-identical" in out, out
     assert len(rows(tmp_path)) == 4
+
+
+def test_a_scene_in_a_named_fabric_sweeps_and_its_fabric_fields_need_the_fabric_dropped(tmp_path, capsys):
+    """The shipped curtain is denim: every case of a sweep over it ran a config carrying the fabric and the fields
+    it sets, refused as a clash (all cases failed). A case now carries the fabric alone; sweeping a field the
+    fabric sets is refused in one line before any case runs, and fabric="" (the shell's fabric=) sweeps it."""
+    out = tmp_path / "gather"
+    assert main(["sweep", "curtain", "gather=0.5,0.4", "nodes=8x8", "t_end=0.01", "--out", str(out), "-q"]) == 0
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    assert [r["status"] for r in rows] == ["finished", "finished"]
+    refused = tmp_path / "xi"
+    assert main(["sweep", "curtain", "xi=1e-4,1e-3", "nodes=8x8", "t_end=0.01", "--out", str(refused)]) == 2
+    err = capsys.readouterr().err
+    assert "sweep key xi: the fabric 'denim' sets mu, eta, xi and shear" in err and "Traceback" not in err
+    assert not refused.exists()
+    dropped = tmp_path / "dropped"
+    assert main(["sweep", "curtain", "fabric=", "xi=1e-4,1e-3", "nodes=8x8", "t_end=0.01", "--out", str(dropped),
+                 "-q"]) == 0
+    assert [r["status"] for r in csv.DictReader((dropped / "sweep.csv").open())] == ["finished", "finished"]
