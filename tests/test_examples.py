@@ -53,6 +53,7 @@ def test_every_example_has_a_test():
     assert len(scripts) >= 8 and scripts <= tested, f"untested examples: {sorted(scripts - tested)}"
 
 
+@IN_THE_GALLERY
 def test_custom_scene(out):
     text = run_example("custom_scene", out)
     assert "finished" in text
@@ -87,6 +88,7 @@ def test_fd_vs_fe(out):
     png(out / "fd_vs_fe.png")
 
 
+@IN_THE_GALLERY
 def test_curling_strip(out):
     text = run_example("curling_strip", out)
     h = number(r"\(h = ([\d.e+-]+) m\)", text)
@@ -133,6 +135,7 @@ def test_read_back_without_pyvista(out, tmp_path):
     assert not (out / "read_back_pyvista.png").exists()
 
 
+@IN_THE_GALLERY
 def test_convergence(out):
     text = run_example("convergence", out)
     theory = {"FD G": 1, "FD B": 1, "FE G": 3, "FE B": 2}
@@ -165,6 +168,7 @@ def test_toml_scene(out):
     png(out / "toml_scene.png")
 
 
+@IN_THE_GALLERY
 def test_koiter_plate(out):
     """Theory: bicubic Hermite elements give point values at order 4 (docs/design.md); the plate's D carries
     1 - nu^2. FD's first order at nu > 0 is a finding the script prints, not a theory this asserts."""
