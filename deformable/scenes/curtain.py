@@ -44,11 +44,12 @@ Self-contact. Under the variational model (the default) the curtain's folds
 keep clear of each other: with no ``contact`` of its own, the scene takes
 :data:`SELF_CONTACT`, a barrier within 4 mm beyond a fabric 1 mm thick
 (:mod:`deformable.contact.selfpotential`), so no two fold faces come closer
-than 1 mm. Measured on FD 64 x 64 nodes over the 2 s: without it the gathered
-folds next to the drawn end passed through each other in 225 of its 400
-steps; with it in none of 511 (steps the drawn end would have pressed through
-the folds are retried shorter), the closest two faces 2.0 mm apart, in 127 s
-against 77 s wall time (two runs side by side on two cores).
+than 1 mm. Measured on FD 64 x 64 nodes over the 2 s (the curtain of issue 44,
+before it was denim): without it the gathered folds next to the drawn end
+passed through each other in 225 of its 400 steps; with it in none of 511
+(steps the drawn end would have pressed through the folds are retried
+shorter), the closest two faces 2.0 mm apart, in 127 s against 77 s wall time
+(two runs side by side on two cores).
 The paper's force (``force_model = "tpbf87"``, the semi-implicit scheme) has
 no self-contact.
 
