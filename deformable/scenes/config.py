@@ -223,6 +223,15 @@ class SceneConfig(Registered, family="scene"):
     #: the fields a named fabric sets (:attr:`fabric`)
     FABRIC_FIELDS: ClassVar[tuple] = ("mu", "eta", "xi", "shear")
 
+    @classmethod
+    def stated(cls, values: dict) -> dict:
+        """Config fields ``values`` (name -> value) as a scene file or a sweep case states them: with a named
+        ``fabric`` among them, without the :data:`FABRIC_FIELDS` it sets (the fabric stands for them; given beside
+        it they clash)."""
+        if not values.get("fabric"):
+            return dict(values)
+        return {k: v for k, v in values.items() if k not in cls.FABRIC_FIELDS}
+
     def _take_fabric(self) -> None:
         """mu, eta, xi and shear from the named fabric: its density, its warp's weights and its shear over the
         warp's stretching (for display; :meth:`material` takes its full tensors)."""

@@ -110,8 +110,8 @@ def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
     ``[run]`` table after them (:func:`run_table` reads it back).
     """
     table = {"scene": cfg.scene}
-    own = cfg.FABRIC_FIELDS if cfg.fabric else ()  # a named fabric sets these: it stands for them
-    table.update({f.name: getattr(cfg, f.name) for f in fields(cfg) if f.name not in ("obstacles", "contact", *own)})
+    table.update(cfg.stated({f.name: getattr(cfg, f.name) for f in fields(cfg)
+                             if f.name not in ("obstacles", "contact")}))
     if cfg.contact is not None:
         table["contact"] = cfg.contact.table()
     if cfg.obstacles:

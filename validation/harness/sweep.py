@@ -281,9 +281,7 @@ class Sweep:
         for backend in self.backends:
             own = base if grid_set else dict(base, nodes=run_grid(self.base.nodes, backend))
             for combo in itertools.product(*(v for _, v in self.axes)):
-                merged = dict(own, **dict(zip((k for k, _ in self.axes), combo)))
-                if merged.get("fabric"):  # a named fabric stands for the fields it sets (as a scene file writes it)
-                    merged = {k: v for k, v in merged.items() if k not in self.base.FABRIC_FIELDS}
+                merged = self.base.stated(dict(own, **dict(zip((k for k, _ in self.axes), combo))))
                 out.append(SweepCase(self.base.scene, tuple(sorted(merged.items())), backend, self.measures,
                                      dt_given))
         return out
