@@ -27,12 +27,13 @@ median). The folds are resolved when the narrowest is at least :data:`RESOLVED` 
 prediction: the narrowest fold is at least :data:`NARROWEST_PER_FOLD_SCALE` = 2/3 of l_f, so the folds are
 resolved when l_f spans at least RESOLVED / NARROWEST_PER_FOLD_SCALE = :data:`FOLD_SCALE_SPACINGS` = 4.5 grid
 spacings. Measured on the drawn curtain (FD, the variational model with its self-contact, its 2 s, one thread):
-l_f / h, then the narrowest late fold in h and in cm, then CPU s,
+l_f / h, then the narrowest late fold in h and in cm, then CPU s (plain: the curtain before it was shipped in
+denim, ``fabric="" mu=0.2 eta=20 xi=1e-4 shear=1``; xi = 1e-5 with it),
 
 ===================  ===================  ====================  ====================  ====================
 run                  32 x 32 nodes        48 x 48               64 x 64               80 x 80
 ===================  ===================  ====================  ====================  ====================
-xi = 1e-4 (shipped)  3.26: 6 h 19 cm 26   4.94: 5 h 11 cm 48    6.63: 12 h 19 cm 69
+xi = 1e-4 (plain)    3.26: 6 h 19 cm 26   4.94: 5 h 11 cm 48    6.63: 12 h 19 cm 69
 xi = 1e-5            1.83: 2 h 6.5 cm 19  2.78: 1 h 2.1 cm 68                         4.67: 5 h 6.3 cm 339
 denim                2.41: 3 h 9.7 cm 38  3.66: 4 h 8.5 cm 116  4.90: 5 h 7.9 cm 185
 tablecloth           2.29: 4 h 13 cm 42   3.48: 1 h 2.1 cm 116  4.66: 8 h 13 cm 260
@@ -49,7 +50,7 @@ converged (1.0: denim, xi = 1e-4) does not predict it; its rule l_f >= 3 h would
 jacket-polyester on 64 resolved. The rule here is a threshold placed above the largest l_f / h of a grid-scale
 run (4.32), not a fitted law: it holds for the 19 runs measured, conservatively below it (6 of the 13 runs
 below 4.5 h kept 3 h or more). On FD the narrowest fold is a whole number of spacings (the extrema of a node
-polyline sit at nodes). FE was not measured for it (its narrowest fold on the shipped curtain, 3.75 h on 32 x 32
+polyline sit at nodes). FE was not measured for it (its narrowest fold on the plain curtain, 3.75 h on 32 x 32
 elements, is wider in metres than FD's on 64 x 64); the flag and the other scenes are judged by the curtain's
 rule.
 """
