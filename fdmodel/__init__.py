@@ -1,7 +1,7 @@
 """fdmodel: the paper's finite-difference discretisation (section 2.3, TPBF87 appendix).
 
 ``FDModel(scene, weighting=None)`` behind the backend contract
-(:class:`deformable.Backend`), module for module like :mod:`femodel`:
+(:class:`deformable.Backend`, on :class:`deformable.backends.BackendBase`), module for module like :mod:`femodel`:
 
 - :mod:`fdmodel.model`: the model (geometry, loads, constraints, the system (21));
 - :mod:`fdmodel.operators`: the difference operators (FE's counterpart: :mod:`femodel.hermite`);

@@ -55,16 +55,14 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from deformable.backends.base import BackendBase
 from deformable.backends.contract import EdgeRule, Patches, Sample
-from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import CELL_CORNERS, bilinear, bilinear_weights
 from deformable.geometry.surfaces import as_surface
-from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.force_models import EnergyModel, ForceModel, QuadraticEnergy
+from deformable.physics.force_models import EnergyModel, QuadraticEnergy
 from deformable.physics.integrand import FD_SLOTS, FE_SLOTS, DensityIntegrand, Integrand
-from deformable.physics.loads import Loads
 from deformable.physics.material import TENSORS
-from deformable.scene.constraints import Clamp, hold
+from deformable.scene.constraints import Clamp
 from deformable.scene.scene import Scene
 
 from .clamp import GhostRows
@@ -103,8 +101,15 @@ def _extend(n: int) -> np.ndarray:
     return E
 
 
-class FDModel:
+class FDModel(BackendBase):
     """Finite-difference backend (paper section 2.3); satisfies :class:`deformable.Backend`.
+
+    Over :class:`~deformable.backends.BackendBase`: rows integrated over each node's cell h1 h2, M = h1 h2
+    diag(mu) and C = h1 h2 diag(gamma) (times the control-area weights when chosen); loads by the hooks below
+    (body forces at the nodes, edge tractions by the trapezoidal rule, point loads and springs spread bilinearly
+    over the corners of their cell, wind with the normal of eq. (19)), less the clamp's ghost-row force under
+    K(r) (:meth:`_affine_force`); the energy (13) summed over the nodes where each difference of eq. (17) is
+    defined (times the row weights).
 
     Parameters
     ----------
@@ -118,24 +123,20 @@ class FDModel:
     """
 
     def __init__(self, scene: Scene, weighting: str | None = None):
-        check_scene(scene, self.descriptor)  # a Scene whose grid fits in memory, before anything is allocated
-        fm = self.force_model = scene.force_model
+        super().__init__(scene)
+        fm = self.force_model
         #: the force is the gradient of an energy density (eq. (13) or another): ghost-row clamps, bending halves
         self.density = isinstance(fm, EnergyModel)
         if weighting is None:
             weighting = "control-area" if self.density else "pointwise"
         if weighting not in WEIGHTINGS:
             raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
-        self.scene, self.weighting = scene, weighting
-        sheet, mat = scene.sheet, scene.material
-        self.M, self.N = M, N = sheet.nodes
-        self.h1, self.h2 = self.spacing = sheet.h
+        self.weighting = weighting
+        sheet, mat, M, N = scene.sheet, scene.material, self.M, self.N
         self.ndof = M * N
         self.value_dofs = np.arange(self.ndof)
-        self.linear = fm.linear
         self.a1, self.a2 = sheet.coordinates()
         self.points = (self.a1, self.a2)
-        self.contact_samples = CONTACT_SAMPLES
         area = self.h1 * self.h2
 
         self.ops = operators(M, N, self.h1, self.h2)
@@ -173,17 +174,15 @@ class FDModel:
         self.G0, self.B0 = scene.rest_tensors(self.a1, self.a2,
                                               *node_tensors(self.discretize(sheet.rest).reshape(M, N, 3), *sheet.h))
         if self.linear:
-            self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
-            self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
+            self._fix_coefficients()
             f = self._clamp_force(self.beta_fixed)
             c = 0.0 if f is None else self.ghost.constant(self.row_weight, area, self.beta_fixed, self._ghost_offset)
             self._energy = QuadraticEnergy(self._K_const, *self.strength.parts(self.alpha_fixed, self.beta_fixed),
                                            linear=f, constant=c)
         else:
             self._energy = self._discrete_energy(area)
-        self._held = hold(scene, self.ndof, node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
-                          clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge)))
-        self.loads = Loads(self)
+        self._complete(node_dofs=np.flatnonzero, edge_dofs=lambda edge: np.array([], int),
+                       clamp_dofs=lambda edge: np.flatnonzero(sheet.edge_nodes(edge)))
 
     def _discrete_energy(self, area: float) -> DiscreteEnergy:
         """The energy as node and cell parts (:mod:`fdmodel.energy`), rest tensors from the rest shape's own slots:
@@ -312,10 +311,6 @@ class FDModel:
         """Node values of a surface (or callable (a1, a2) -> (..., 3)): X (M N, 3)."""
         return as_surface(surface).r(self.a1, self.a2).reshape(self.ndof, 3)
 
-    def initial_state(self) -> np.ndarray:
-        """The sheet's initial shape at the nodes, (M N, 3)."""
-        return self.discretize(self.scene.sheet.initial)
-
     def tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """G and B at every node, two (2, 2, M, N) arrays.
 
@@ -327,12 +322,10 @@ class FDModel:
             return self._centred_tensors(X)
         return node_tensors(self.grid(X), self.h1, self.h2)
 
-    def alpha_beta(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """alpha_ij and beta_ij of eq. (15)/(18)-(19) at the nodes, two (2, 2, M, N) arrays."""
-        if self.linear:
-            return self.alpha_fixed, self.beta_fixed
-        G, B = node_tensors(self.grid(X), self.h1, self.h2)
-        return self.force_model.coefficients(self.fields.__getitem__, G, self.G0, B, self.B0)
+    def _strain_tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """G and B of eq. (18)-(19) at the nodes, where alpha and beta of eq. (15) are formed (the hook of
+        :meth:`alpha_beta`), two (2, 2, M, N) arrays."""
+        return node_tensors(self.grid(X), self.h1, self.h2)
 
     def sample(self, X: np.ndarray, a: np.ndarray) -> Sample:
         """r, G, B at parameter points a (P, 2): exact at nodes, bilinear between them."""
@@ -344,17 +337,6 @@ class FDModel:
         return Sample(r=v[:, :3], G=v[:, 3:7].reshape(-1, 2, 2), B=v[:, 7:].reshape(-1, 2, 2))
 
     # -- the semi-discrete system (21) --------------------------------------
-    def stiffness(self, X: np.ndarray) -> sp.csr_matrix:
-        """Strength matrix K(r) of eq. (20) times the cell area h1 h2, (M N, M N), symmetric; fixed pattern.
-
-        Defined for the tpbf87 and frozen force models; the variational model
-        couples the coordinates and has :meth:`energy_hessian` instead.
-        """
-        if self.linear:
-            return self._K_const
-        self.force_model.require_strength_matrix()
-        return self.strength.matrix(*self.alpha_beta(X))
-
     def _clamp_force(self, beta) -> np.ndarray | None:
         """The ghost rows' affine force under K(r) (:meth:`GhostRows.force`), (M N, 3) (N); None without a clamp
         or under an energy density (whose slots carry the offset themselves)."""
@@ -362,58 +344,12 @@ class FDModel:
             return None
         return self.ghost.force(self._ghost_ops, self.row_weight, self.h1 * self.h2, beta, self._ghost_offset)
 
-    def internal_force(self, X: np.ndarray) -> np.ndarray:
-        """The internal force (N), (M N, 3): h1 h2 e of eq. (16) (K(r) R), or the energy gradient (variational)."""
-        if not self.force_model.has_strength_matrix:
-            return self.energy_gradient(X)
-        return self.stiffness(X) @ X
-
-    def energy_gradient(self, X: np.ndarray) -> np.ndarray:
-        """Exact gradient of the discrete energy, (M N, 3) (N).
-
-        Variational model: the gradient of eq. (13) (:mod:`fdmodel.energy`);
-        frozen model: K R. The tpbf87 force (14) is not a gradient (ValueError).
-        """
-        self.force_model.require_energy()
-        return self._energy.gradient(X)
-
-    def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
-        """Hessian of the discrete energy (3 M N, 3 M N), coordinates in blocks (index a M N + k).
-
-        ``kind`` "newton" (exact) or "gauss-newton" (positive semi-definite).
-        """
-        self.force_model.require_energy()
-        return self._energy.hessian(X, kind)
-
-    def energy_elements(self, X: np.ndarray, kind: str = "newton"):
-        """The Hessian of :meth:`energy_hessian` as element upper triangles and their pattern: ((E, nu) array,
-        :class:`deformable.algebra.elements.SymmetricElements`), or None where the energy has no elements (the
-        frozen model's constant matrix). What Newton's method assembles its matrix from
-        (:class:`deformable.algebra.upper.FreeUpper`)."""
-        self.force_model.require_energy()
-        return self._energy.elements(X, kind)
-
-    def mass(self) -> sp.csr_matrix:
-        """M = h1 h2 diag(mu) (times the control-area weights when chosen), kg."""
-        return self._M
-
-    def damping(self) -> sp.csr_matrix:
-        """C = h1 h2 diag(gamma) (times the control-area weights when chosen), kg/s."""
-        return self._C
-
-    def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21) at time t, (M N, 3), integrated over each node's cell (N) (:mod:`deformable.physics.loads`).
-
-        Body forces f h1 h2 (times the control-area weight when chosen; the
-        paper's pointwise value otherwise), edge tractions q times the node's
-        share of the edge (half at the edge's end nodes), point loads and
-        springs spread bilinearly over the corners of their cell, wind at the
-        nodes with the normal of eq. (19) and the velocities V (None: at rest); under K(r) (tpbf87, frozen) and a
-        clamp, minus the ghost rows' affine force (:meth:`_clamp_force`, with beta at X).
-        """
-        F = self.loads.total(X, t, V)
-        f = self._clamp_force(self.alpha_beta(X)[1]) if self._ghost_offset is not None and not self.density else None
-        return F if f is None else F - f
+    def _affine_force(self, X: np.ndarray) -> np.ndarray | None:
+        """Under K(r) (tpbf87, frozen) and a clamp, the ghost rows' affine force with beta at X (:meth:`_clamp_force`),
+        which :meth:`load` subtracts; None otherwise."""
+        if self._ghost_offset is None or self.density:
+            return None
+        return self._clamp_force(self.alpha_beta(X)[1])
 
     # -- the hooks of deformable.physics.loads ---------------------------------------
     def integrate(self, density: np.ndarray) -> np.ndarray:
@@ -432,23 +368,11 @@ class FDModel:
         data = (self.h1 * self.h2 * self.area_weight * np.asarray(c).reshape(self.M, self.N)).ravel()
         return sp.csr_matrix((data, np.arange(self.ndof), np.arange(self.ndof + 1)), shape=(self.ndof, self.ndof))
 
-    def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]:
-        """The four nodes of the cell holding parameter point a and their bilinear weights: r(a) = w . X[dofs].
-
-        ``what`` is named in the ValueError for a point outside the sheet.
-        """
-        i, j, s, u = self.scene.sheet.locate(np.asarray(a, float)[None], what)
-        dofs = np.array([(i[0] + di) * self.N + j[0] + dj for di, dj in CELL_CORNERS])
-        return dofs, np.array([float(w) for w in bilinear_weights(s[0], u[0])])
-
-    def point_matrix(self, a) -> sp.csr_matrix:
-        """r at parameter points a (P, 2) as a sparse (P, M N) matrix of bilinear weights: ``r(a) = W @ X``."""
-        i, j, s, u = self.scene.sheet.locate(a, "points")
+    def _point_weights(self, a, what: str) -> tuple[np.ndarray, np.ndarray]:
+        """The four nodes of the cell holding each parameter point a (P, 2) and their bilinear weights, (P, 4) each."""
+        i, j, s, u = self.scene.sheet.locate(a, what)
         dofs = np.stack([(i + di) * self.N + j + dj for di, dj in CELL_CORNERS], axis=1)
-        w = np.stack(bilinear_weights(s, u), axis=1)
-        W = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(i.size), 4), dofs.ravel())), shape=(i.size, self.ndof))
-        W.eliminate_zeros()
-        return W
+        return dofs, np.stack(bilinear_weights(s, u), axis=1)
 
     def patches(self) -> Patches:
         """The cells, each reading its four corners at its centre: r their mean, r_1 and r_2 the mean of its two
@@ -481,31 +405,3 @@ class FDModel:
         across = sp.csr_matrix((np.repeat(c[None], P, 0).ravel(), (np.repeat(np.arange(P), 2),
                                 np.stack(rows, 1).ravel())), shape=(P, self.ndof))
         return EdgeRule(self.a1[edge.index], self.a2[edge.index], share, at, across)
-
-    def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Indices of the held degrees of freedom of x, y and z."""
-        return self._held.fixed
-
-    def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray:
-        """Positions with the held degrees of freedom at their values at time t, (M N, 3)."""
-        return self._held.prescribed(X0, t)
-
-    def stable_step(self, force_model=None) -> float:
-        """The stretching bound of the semi-implicit step (s): h sqrt(mu / (2 eta)) for tpbf87, else inf;
-        under ``force_model`` (a registered name or instance), when given, instead of the sheet's own."""
-        fm = self.force_model if force_model is None else ForceModel.of(force_model)
-        return fm.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
-
-    # -- energy ---------------------------------------------------------------
-    def energy(self, X: np.ndarray) -> Energy:
-        """Elastic energy (J): eq. (13) for tpbf87 and variational, R^T K R / 2 for the frozen model.
-
-        Eq. (13) is summed over the nodes where each difference of eq. (17) is
-        defined, each node standing for an area h1 h2 (times the row weights
-        of the control-area weighting).
-        """
-        return self._energy.energy(X)
-
-    def kinetic_energy(self, V: np.ndarray) -> float:
-        """Kinetic energy V^T M V / 2 (J)."""
-        return kinetic_energy(self._M, V)

@@ -1,8 +1,8 @@
 """femodel: finite elements on the parameter rectangle (bicubic Hermite on skfem's tensor mesh).
 
 ``FEModel(scene, element="hermite")`` discretises the same model as
-``fdmodel.FDModel`` behind the same contract (:class:`deformable.Backend`),
-module for module:
+``fdmodel.FDModel`` behind the same contract (:class:`deformable.Backend`, on
+:class:`deformable.backends.BackendBase`), module for module:
 
 - :mod:`femodel.model`: the model (geometry, loads, constraints, the system (21));
 - :mod:`femodel.hermite`: the element (FD's counterpart: :mod:`fdmodel.operators`);

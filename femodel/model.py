@@ -88,17 +88,14 @@ import skfem
 from skfem.quadrature import get_quadrature_line
 
 from deformable.algebra.elements import element_vectors
+from deformable.backends.base import BackendBase
 from deformable.backends.contract import EdgeRule, Patches, Sample
-from deformable.backends.registry import check_scene
 from deformable.geometry.sheet import bilinear
 from deformable.geometry.surfaces import as_surface
 from deformable.geometry.tensors import frame
-from deformable.physics.energy import Energy, kinetic_energy
-from deformable.physics.force_models import EnergyModel, ForceModel, QuadraticEnergy
+from deformable.physics.force_models import EnergyModel, QuadraticEnergy
 from deformable.physics.integrand import FE_SLOTS, DensityIntegrand, Integrand, slot_tensors
-from deformable.physics.loads import Loads
 from deformable.physics.material import TENSORS
-from deformable.scene.constraints import hold
 from deformable.scene.scene import Scene
 
 from .energy import DiscreteEnergy, gauss_tensors
@@ -123,8 +120,13 @@ MEMBRANE_EIGENVALUE = 4.0 / 0.21**2
 CONTACT_SAMPLES = 2
 
 
-class FEModel:
+class FEModel(BackendBase):
     """Finite-element backend; satisfies :class:`deformable.Backend`.
+
+    Over :class:`~deformable.backends.BackendBase`: consistent mass and damping (integral mu u v, gamma u v) on
+    K's pattern; loads integrated against the basis (body densities and wind by the 4 x 4 Gauss rule, the wind
+    with the exact normal of the element surface; edge tractions by the 4-point rule on the element sides; point
+    loads and springs by the basis at their point); the energy (13) by the same Gauss rule.
 
     Parameters
     ----------
@@ -147,24 +149,22 @@ class FEModel:
         The fixed CSR pattern shared by K, M and C, and the form tables.
     """
 
+    #: the basis vanishes exactly at nodes and along element sides; its round-off there is dropped
+    point_tolerance = 1e-14
+
     def __init__(self, scene: Scene, element: str = "hermite"):
-        check_scene(scene, self.descriptor)  # a Scene whose grid fits in memory, before anything is allocated
+        super().__init__(scene)
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {ELEMENTS}, got {element!r}")
         start = time.perf_counter()
-        self.scene, self.element = scene, element
-        sheet, mat = scene.sheet, scene.material
-        self.M, self.N = M, N = sheet.nodes
-        self.h1, self.h2 = self.spacing = sheet.h
+        self.element = element
+        sheet, mat, M, N, fm = scene.sheet, scene.material, self.M, self.N, self.force_model
         self.ndof = NODE_DOFS * M * N
         self.value_dofs = NODE_DOFS * np.arange(M * N)
-        fm = self.force_model = scene.force_model
-        self.linear = fm.linear
         self.mesh = skfem.MeshQuad.init_tensor(*sheet.axes())
         self._build_elements()
         self._build_quadrature()
         self.points = (self.a1q, self.a2q)
-        self.contact_samples = CONTACT_SAMPLES
 
         self.strength = StrengthMatrix(self.ldofs, self.ndof, self.dq, self.weights)
         self.mu, self.gamma = (mat.field_at(name, (M, N), self.points, self.to_quadrature) for name in ("mu", "gamma"))
@@ -177,9 +177,8 @@ class FEModel:
         self.eta, self.xi = self.fields["eta"], self.fields["xi"]
         # rest state at the Gauss points: the discretised rest shape, or the scene's overrides
         if self.linear:
-            self.alpha_fixed, self.beta_fixed = fm.coefficients(self.fields.__getitem__, None, None, None, None)
+            self._fix_coefficients()
             self._bending = bool(np.any(self.beta_fixed != 0))
-            self._K_const = self.strength.matrix(self.alpha_fixed, self.beta_fixed)
             self._energy = QuadraticEnergy(self._K_const, self.strength.matrix(self.alpha_fixed, None),
                                            self.strength.matrix(None, self.beta_fixed))
         else:
@@ -194,9 +193,8 @@ class FEModel:
             else:  # eq. (13), compiled: the variational model, and tpbf87's energy
                 integrand = Integrand(self.eta * w, self.xi * w, self.G0, self.B0, FE_SLOTS)
             self._energy = DiscreteEnergy(self.ldofs, self.ndof, self.dq, integrand)
-        self._held = hold(scene, self.ndof, node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs,
-                          clamp_dofs=self._clamp_dofs, symmetry_dofs=self._symmetry_dofs)
-        self.loads = Loads(self)
+        self._complete(node_dofs=self._node_dofs, edge_dofs=self._edge_tangent_dofs, clamp_dofs=self._clamp_dofs,
+                       symmetry_dofs=self._symmetry_dofs)
         log.debug("FEModel %d x %d elements, %d dofs, nnz %d, built in %.3f s",
                   M - 1, N - 1, self.ndof, self.strength.elements.nnz, time.perf_counter() - start)
 
@@ -237,12 +235,6 @@ class FEModel:
         return bilinear(field, self.elem_ij[:, 0, None], self.elem_ij[:, 1, None], self.qs, self.qt)
 
     # -- geometry -----------------------------------------------------------
-    def _check_state(self, X, name: str = "X") -> np.ndarray:
-        X = np.asarray(X, float)
-        if X.shape != (self.ndof, 3):
-            raise ValueError(f"{name} has shape {X.shape}, expected ({self.ndof}, 3)")
-        return X
-
     def grid(self, X: np.ndarray) -> np.ndarray:
         """Node positions (value degrees of freedom), (M, N, 3)."""
         return self._check_state(X)[0::NODE_DOFS].reshape(self.M, self.N, 3)
@@ -259,10 +251,6 @@ class FEModel:
         X = np.stack([s.r(a1, a2), self.h1 * s.r1(a1, a2), self.h2 * s.r2(a1, a2),
                       self.h1 * self.h2 * s.r12(a1, a2)], axis=2)  # (M, N, 4, 3)
         return X.reshape(self.ndof, 3)
-
-    def initial_state(self) -> np.ndarray:
-        """The sheet's initial shape, (ndof, 3)."""
-        return self.discretize(self.scene.sheet.initial)
 
     def derivatives(self, X: np.ndarray, which=DERIVATIVES[1:]) -> np.ndarray:
         """Parameter derivatives of r at the Gauss points.
@@ -287,12 +275,10 @@ class FEModel:
         """
         return gauss_tensors(self._check_state(X), self.ldofs, self.dq, curvature)
 
-    def alpha_beta(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """alpha_ij and beta_ij of eq. (15) at the Gauss points, two (2, 2, E, nq) arrays."""
-        if self.linear:
-            return self.alpha_fixed, self.beta_fixed
-        G, B = self.tensors(X, curvature=self._bending)
-        return self.force_model.coefficients(self.fields.__getitem__, G, self.G0, B, self.B0)
+    def _strain_tensors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """G and B at the Gauss points, where alpha and beta of eq. (15) are formed (the hook of :meth:`alpha_beta`);
+        B None without bending."""
+        return self.tensors(X, curvature=self._bending)
 
     def _locate(self, a: np.ndarray, what: str):
         """Element index, reference coordinates s, t of parameter points a (P, 2)."""
@@ -325,74 +311,6 @@ class FEModel:
             G[sl], B[sl] = np.moveaxis(Gs, -1, 0), np.moveaxis(Bs, -1, 0)
         return Sample(r=r, G=G, B=B)
 
-    # -- the semi-discrete system (21) --------------------------------------
-    def stiffness(self, X: np.ndarray) -> sp.csr_matrix:
-        """Strength matrix K(r) (ndof, ndof) of the weak form of eq. (14), symmetric, fixed pattern.
-
-        Defined for the tpbf87 and frozen force models; the variational model
-        couples the coordinates and has :meth:`energy_hessian` instead (ValueError).
-        """
-        if self.linear:
-            return self._K_const
-        self.force_model.require_strength_matrix()
-        return self.strength.matrix(*self.alpha_beta(X))
-
-    def energy_gradient(self, X: np.ndarray) -> np.ndarray:
-        """Exact gradient of the discrete energy, (ndof, 3) (N).
-
-        Variational model: the gradient of eq. (13) by the Gauss rule
-        (:mod:`femodel.energy`); frozen model: K R. The tpbf87 force (14)
-        is not a gradient (ValueError).
-        """
-        self.force_model.require_energy()
-        return self._energy.gradient(self._check_state(X))
-
-    def energy_hessian(self, X: np.ndarray, kind: str = "newton") -> sp.csr_matrix:
-        """Hessian of the discrete energy, (3 ndof, 3 ndof), coordinates in blocks (index a ndof + k).
-
-        Variational model: ``kind`` "newton" (exact) or "gauss-newton"
-        (symmetric positive semi-definite), on a fixed pattern. Frozen model:
-        the block diagonal of K (exact, so ``kind`` does not matter).
-        """
-        self.force_model.require_energy()
-        return self._energy.hessian(self._check_state(X), kind)
-
-    def energy_elements(self, X: np.ndarray, kind: str = "newton"):
-        """The Hessian of :meth:`energy_hessian` as element upper triangles and their pattern: ((E, nu) array,
-        :class:`deformable.algebra.elements.SymmetricElements`), or None where the energy has no elements (the
-        frozen model's constant matrix). What Newton's method assembles its matrix from
-        (:class:`deformable.algebra.upper.FreeUpper`)."""
-        self.force_model.require_energy()
-        return self._energy.elements(self._check_state(X), kind)
-
-    def internal_force(self, X: np.ndarray) -> np.ndarray:
-        """The weak internal force, (ndof, 3) (N, integrated against the basis).
-
-        K(r) R for tpbf87 and frozen; the energy gradient for the variational model.
-        """
-        if not self.force_model.has_strength_matrix:
-            return self.energy_gradient(X)
-        return self.stiffness(X) @ self._check_state(X)
-
-    def mass(self) -> sp.csr_matrix:
-        """Consistent mass matrix, integral mu u v (kg), on K's pattern."""
-        return self._M
-
-    def damping(self) -> sp.csr_matrix:
-        """Consistent damping matrix, integral gamma u v (kg/s), on K's pattern."""
-        return self._C
-
-    def load(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21) at time t, (ndof, 3) (N): loads integrated against the basis (:mod:`deformable.physics.loads`).
-
-        Body densities (Gravity, BodyForce) and wind by the 4 x 4 Gauss rule
-        (the wind with the exact normal of the element surface and the
-        velocities V, None: at rest), edge tractions (EdgeLoad) by the 4-point
-        Gauss rule on the edge's element sides, point loads and springs by the
-        basis at their point.
-        """
-        return self.loads.total(self._check_state(X), t, V)
-
     # -- the hooks of deformable.physics.loads ---------------------------------------
     def integrate(self, density: np.ndarray) -> np.ndarray:
         """integral f phi_k of a density f (N/m^2) at the Gauss points, (E, nq, 3): (ndof, 3) (N)."""
@@ -407,23 +325,11 @@ class FEModel:
         """integral c phi_k phi_l (ndof, ndof) for a field c at the Gauss points (E, nq), on K's pattern."""
         return self.strength.density_matrix(np.asarray(c).reshape(self.a1q.shape))
 
-    def point_dofs(self, a, what: str = "point") -> tuple[np.ndarray, np.ndarray]:
-        """The 16 degrees of freedom of the element holding parameter point a and its basis there: r(a) = w . X[dofs].
-
-        ``what`` is named in the ValueError for a point outside the sheet.
-        """
-        e, s, t = self._locate(np.asarray(a, float)[None], what)
-        return self.ldofs[e[0]], basis(s, t, (self.h1, self.h2))[:, 0]
-
-    def point_matrix(self, a) -> sp.csr_matrix:
-        """r at parameter points a (P, 2) as a sparse (P, ndof) matrix of the basis there: ``r(a) = W @ X``."""
-        e, s, t = self._locate(a, "points")
-        w = basis(s, t, (self.h1, self.h2)).T  # (P, 16)
-        W = sp.csr_matrix((w.ravel(), (np.repeat(np.arange(e.size), 16), self.ldofs[e].ravel())),
-                          shape=(e.size, self.ndof))
-        W.data[np.abs(W.data) < 1e-14] = 0.0  # the basis vanishes exactly at nodes and along element sides
-        W.eliminate_zeros()
-        return W
+    def _point_weights(self, a, what: str) -> tuple[np.ndarray, np.ndarray]:
+        """The 16 degrees of freedom of the element holding each parameter point a (P, 2) and the basis there, (P, 16)
+        each (:meth:`point_matrix` drops its round-off where it vanishes exactly, at nodes and along element sides)."""
+        e, s, t = self._locate(a, what)
+        return self.ldofs[e], basis(s, t, (self.h1, self.h2)).T
 
     def patches(self) -> Patches:
         """The Gauss points by element: each reads its element's 16 degrees of freedom."""
@@ -451,20 +357,6 @@ class FEModel:
         a2 = ((self.elem_ij[e, 1, None] + tt[None]) * self.h2).ravel()
         return EdgeRule(a1, a2, np.tile(w * self.spacing[edge.along], e.size), matrix((0, 0)),
                         matrix((1, 0) if edge.axis == 0 else (0, 1)))
-
-    def energy(self, X: np.ndarray) -> Energy:
-        """Elastic energy (J): eq. (13) by the Gauss rule (tpbf87, variational); R^T K R / 2 split alpha/beta (frozen)."""
-        return self._energy.energy(self._check_state(X))
-
-    def kinetic_energy(self, V: np.ndarray) -> float:
-        """Kinetic energy V^T M V / 2 (J) with the consistent mass."""
-        return kinetic_energy(self._M, self._check_state(V, "V"))
-
-    def stable_step(self, force_model=None) -> float:
-        """The stretching bound of the semi-implicit step (s): about 0.21 h sqrt(mu / (2 eta)) for tpbf87, else inf;
-        under ``force_model`` (a registered name or instance), when given, instead of the sheet's own."""
-        fm = self.force_model if force_model is None else ForceModel.of(force_model)
-        return fm.stable_step(self.mu, self.eta, self.spacing, MEMBRANE_EIGENVALUE)
 
     # -- constraints ----------------------------------------------------------
     def _node_dofs(self, mask: np.ndarray, k: int = 0) -> np.ndarray:
@@ -503,11 +395,3 @@ class FEModel:
                         "derivative across the edge (the in-plane stretch too: an O(h^3) layer)", name)
         held = [np.concatenate([position, slope]) if not axis or k == axis[0] else position for k in range(3)]
         return tuple(held)
-
-    def fixed_dofs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Indices of the held degrees of freedom of x, y and z."""
-        return self._held.fixed
-
-    def prescribed(self, X0: np.ndarray, t: float) -> np.ndarray:
-        """X0 with the value dofs of moving pins translated by their motion at time t, (ndof, 3)."""
-        return self._held.prescribed(self._check_state(X0, "X0"), t)

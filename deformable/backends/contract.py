@@ -58,8 +58,9 @@ class EdgeRule:
 @dataclass(frozen=True)
 class Patches:
     """A backend's quadrature points grouped by the degrees of freedom they read: G groups (FE: elements; FD:
-    cells, one point at the centre) of q points each, reading c degrees of freedom ``cols`` (G, c); ``values`` (3, G, q, c) the weights
-    by which r, r_1 and r_2 at a point are sums of those degrees of freedom (r = sum_c values[0] X[cols]);
+    cells, one point at the centre) of q points each, reading c degrees of freedom ``cols`` (G, c); ``values``
+    (3, G, q, c) the weights by which r, r_1 and r_2 at a point are sums of those degrees of freedom
+    (r = sum_c values[0] X[cols]);
     ``weights`` (G, q) the points' quadrature weights (area, scene units). Local derivatives of a density of
     (r, r_1, r_2) assemble on the fixed pattern of the pairs of each group's columns."""
 
@@ -71,6 +72,9 @@ class Patches:
 @runtime_checkable
 class Backend(Protocol):
     """What a discretisation offers: geometry, the system (21), the energy (13) and its derivatives.
+
+    A backend writes it on :class:`~deformable.backends.base.BackendBase`, which holds the methods that read the
+    discretisation only through a few hooks (what a backend writes and what it inherits: its docstring).
 
     Attributes
     ----------
