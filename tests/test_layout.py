@@ -196,3 +196,63 @@ def test_every_exception_and_warning_of_the_core_is_in_the_error_module():
                                      "OSError", "Warning"}) or kinds.search(node.name):
                     stray.append(f"{name}.{node.name}")
     assert stray == [] and len(known) >= 14
+
+
+def _kind_of(node) -> bool:
+    """An object's kind read: ``x.kind`` (numpy's ``dtype.kind`` aside), ``getattr(x, "kind")``, a table's
+    ``t["kind"]``, ``t.get("kind")`` or ``t.pop("kind")``."""
+    def named(n):
+        return isinstance(n, ast.Constant) and n.value == "kind"
+
+    if isinstance(node, ast.Attribute) and node.attr == "kind":
+        base = node.value
+        return not ((isinstance(base, ast.Attribute) and base.attr == "dtype") or (
+            isinstance(base, ast.Name) and base.id == "dtype"))
+    if isinstance(node, ast.Subscript):
+        return named(node.slice)
+    if isinstance(node, ast.Call) and node.args:
+        f = node.func
+        return (isinstance(f, ast.Attribute) and f.attr in ("get", "pop") and named(node.args[0])) or (
+            isinstance(f, ast.Name) and f.id == "getattr" and len(node.args) > 1 and named(node.args[1]))
+    return False
+
+
+def _kind_dispatch(tree) -> list[int]:
+    """Lines that choose behaviour by comparing an object's kind (:func:`_kind_of`, or a name it was put in within
+    the same function) with ``==`` / ``!=``, with ``in`` / ``not in`` a literal string or tuple of them, or in a
+    ``match`` on string cases. Comparisons inside an f-string (building a message) are not behaviour."""
+    def literal(node):
+        return (isinstance(node, ast.Constant) and isinstance(node.value, str)) or (
+            isinstance(node, (ast.Tuple, ast.List, ast.Set)) and node.elts and all(literal(e) for e in node.elts))
+
+    quoted = {id(n) for s in ast.walk(tree) if isinstance(s, ast.JoinedStr) for n in ast.walk(s)}
+    found = set()
+    for scope in [tree] + [n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]:
+        nodes = list(ast.walk(scope))
+        names = set() if scope is tree else {
+            t.id for n in nodes if isinstance(n, (ast.Assign, ast.AnnAssign, ast.NamedExpr)) and n.value is not None
+            and any(_kind_of(v) for v in ast.walk(n.value))
+            for t in (n.targets if isinstance(n, ast.Assign) else [n.target]) if isinstance(t, ast.Name)}
+
+        def kind(node):
+            return _kind_of(node) or (isinstance(node, ast.Name) and node.id in names)
+
+        for node in nodes:
+            if isinstance(node, ast.Compare) and id(node) not in quoted:
+                sides = [node.left, *node.comparators]
+                for op, a, b in zip(node.ops, sides, sides[1:]):
+                    if isinstance(op, (ast.Eq, ast.NotEq)) and (kind(a) or kind(b)) or isinstance(
+                            op, (ast.In, ast.NotIn)) and kind(a) and literal(b):
+                        found.add(node.lineno)
+            elif isinstance(node, ast.Match) and kind(node.subject) and any(
+                    isinstance(c.pattern, ast.MatchValue) and literal(c.pattern.value) for c in node.cases):
+                found.add(node.lineno)
+    return sorted(found)
+
+
+def test_the_core_asks_objects_rather_than_comparing_their_kinds():
+    """Loads, obstacles, rest shapes and force models are asked (a method, a registry lookup), never dispatched on a
+    kind string: a new load or shape is one class, not one more branch (issue 46)."""
+    found = {name: lines for name, tree in trees().items() if name.startswith("deformable")
+             and (lines := _kind_dispatch(tree))}
+    assert found == {}

@@ -1,30 +1,20 @@
-r"""A rigid obstacle of any shape, given as a triangle mesh: :class:`MeshObstacle`.
+"""A rigid obstacle of any shape, given as a triangle mesh: :class:`MeshObstacle`.
 
-A user's obstacle (a chair, a mannequin, a scanned table) is a triangle mesh,
-read with meshio from any format it knows (OBJ, STL, PLY, VTK, ...) or given
-as arrays. It is neither convex nor, in general, closed, so it has no signed
-distance and no exact safe step by Newton's iteration on one
-(:mod:`deformable.contact.obstacles`): the sheet meets it as it meets
-itself, primitive against primitive on one triangle mesh of the IPC Toolkit
-(the sheet's contact mesh and the obstacle's triangles:
-:class:`deformable.contact.meshpotential.ObstacleMesh`), under the
-IPC barrier of their distances and a line search bounded by continuous
-collision detection (Li et al. 2020, "Incremental Potential Contact", ACM
-TOG 39(4)): no sheet vertex passes an obstacle triangle, no obstacle vertex
-(a chair's corner) passes a sheet triangle, no edge passes an edge
-(:class:`deformable.contact.meshpotential.MeshObstaclePotential`).
+A user's obstacle (a chair, a mannequin, a scanned table) is a triangle mesh, read with meshio from any format it
+knows (OBJ, STL, PLY, VTK, ...) or given as arrays. It is neither convex nor, in general, closed, so it has no
+signed distance (:mod:`deformable.contact.obstacles`): the sheet meets it primitive against primitive on one IPC
+Toolkit mesh (:class:`deformable.contact.meshpotential.ObstacleMesh`), under the IPC barrier of their distances and
+a line search bounded by continuous collision detection (Li et al. 2020, "Incremental Potential Contact", ACM TOG
+39(4); :class:`deformable.contact.meshpotential.MeshObstaclePotential`).
 
-Motion. The obstacle is static, or moves rigidly on a prescribed path: a
-rotation at the constant angular velocity omega (rad/s) about ``pivot`` and a
-translation at the constant ``velocity`` (m/s),
+Motion. The obstacle is static, or moves rigidly on a prescribed path: a rotation at the constant angular velocity
+omega (rad/s) about ``pivot`` and a translation at the constant ``velocity`` (m/s),
 
     y(t) = R(omega t) (y0 - pivot) + pivot + velocity t,
 
-R(theta) the rotation by |theta| about theta / |theta| (Rodrigues' formula).
-Each implicit step puts it where it is at the step's end; where its motion
-over the step would strike the sheet, the sheet near it rides with it into
-the step's start, and a step over which even that would strike the sheet
-(a pinned edge in its way) is retried shorter
+R(theta) the rotation by |theta| about theta / |theta| (Rodrigues' formula). Each implicit step puts it where it is
+at the step's end; where its motion over the step would strike the sheet, the sheet near it rides with it into the
+step's start, and a step over which even that would strike the sheet is retried shorter
 (:meth:`deformable.contact.terms.ContactTerms.safe_start`).
 """
 
@@ -82,8 +72,8 @@ class MeshObstacle(Obstacle):
     ----------
     path : str, optional
         A mesh file meshio reads (its triangles are the obstacle; other cells are left out). Relative paths are
-        relative to the working directory (a scene file's ``[[obstacles]]`` to the file's folder); kept absolute,
-        so that the resolved config written beside a run reads it again from anywhere.
+        relative to the working directory (a scene file's ``[[obstacles]]`` to the file's folder); kept absolute, so
+        that the resolved config written beside a run reads it again from anywhere.
     vertices : array (Q, 3), optional
         The vertices (m), instead of a file.
     faces : int array (F, 3), optional
@@ -205,6 +195,11 @@ class MeshObstacle(Obstacle):
         raise TypeError("a MeshObstacle has no signed distance: its contact is the IPC Toolkit's, primitive against "
                         "primitive (deformable.contact.meshpotential.MeshObstaclePotential)")
 
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """Its own triangles where they are at time t (s)."""
+        F = np.asarray(self.triangles)
+        return pv.PolyData(np.asarray(self.points(t)), np.column_stack([np.full(len(F), 3), F]).ravel())
+
     def table(self) -> dict:
         """The obstacle as a TOML table (the arrays as lists when it has no file; fields at their defaults left
         out)."""
@@ -229,8 +224,8 @@ class MeshObstacle(Obstacle):
 
 
 def icosphere(center, radius: float, level: int) -> MeshObstacle:
-    """The sphere's triangulation: an icosahedron subdivided ``level`` times (each triangle into four), its
-    vertices on the sphere (F = 20 4^level triangles), as a static :class:`MeshObstacle`."""
+    """The sphere's triangulation: an icosahedron subdivided ``level`` times (each triangle into four), its vertices
+    on the sphere (F = 20 4^level triangles), as a static :class:`MeshObstacle`."""
     t = (1.0 + 5.0**0.5) / 2.0
     V = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
          (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
@@ -255,9 +250,8 @@ def icosphere(center, radius: float, level: int) -> MeshObstacle:
 
 
 def sag(obstacle: MeshObstacle, center, radius: float) -> float:
-    """The triangulation's error against the sphere it approximates (m): the largest distance from the sphere to
-    a triangle's plane, radius - min over faces of the plane's distance from the centre (vertices on the
-    sphere)."""
+    """The triangulation's error against the sphere it approximates (m): the largest distance from the sphere to a
+    triangle's plane, radius - min over faces of the plane's distance from the centre (vertices on the sphere)."""
     V, F = obstacle.points(), obstacle.triangles
     n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     n /= np.linalg.norm(n, axis=1)[:, None]

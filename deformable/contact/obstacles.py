@@ -1,60 +1,40 @@
-r"""Rigid obstacles: exact signed distances, their derivatives, and the largest safe step along a motion.
+"""Rigid obstacles: exact signed distances, their derivatives, and the largest safe step along a motion.
 
-Every obstacle is a closed convex solid written as an *inner* convex set K
-inflated by a rounding radius r >= 0 (its Minkowski sum with a ball of radius
-r), so that its signed distance is
+Every obstacle is a closed convex solid written as an *inner* convex set K inflated by a rounding radius r >= 0 (its
+Minkowski sum with a ball of radius r), so that its signed distance is
 
     d(x) = sd_K(x) - r                      (positive outside, negative inside; m)
 
-with sd_K the signed distance to K. For x outside K, ``sd_K(x) = |x - P_K(x)|``
-(P_K the closest point of K), ``grad d = n = (x - P_K(x)) / |x - P_K(x)|`` is
-the outward unit normal and ``hess d = (I - n n^T)(I - DP_K) / |x - P_K(x)|``,
-positive semi-definite with ``hess d n = 0``. The shapes:
+with sd_K the signed distance to K. For x outside K, ``sd_K(x) = |x - P_K(x)|`` (P_K the closest point of K), ``grad
+d = n = (x - P_K(x)) / |x - P_K(x)|`` is the outward unit normal and ``hess d = (I - n n^T)(I - DP_K) / |x -
+P_K(x)|``, positive semi-definite with ``hess d n = 0``. The shapes:
 
-- :class:`HalfSpace` ``(point, normal)``: K the half-space itself (r = 0),
-  d = n . (x - p); its kind in a scene file is "plane" (the one class called
-  Plane is the flat surface of the rest shapes,
-  :class:`deformable.geometry.surfaces.Plane`);
+- :class:`HalfSpace` ``(point, normal)``: K the half-space itself (r = 0), d = n . (x - p); its kind in a scene file
+  is "plane" (:class:`deformable.geometry.surfaces.Plane` is the rest shapes' flat surface);
 - :class:`Sphere` ``(center, radius)``: K a point, r the radius;
-- :class:`Box` ``(lower, upper, rounding)``: an axis-aligned box with edges
-  and corners rounded by ``rounding``; K the box shrunk by it;
-- :class:`Cylinder` ``(center, radius, height, axis, rounding)``: a capped
-  cylinder (a round table), its rim rounded by ``rounding``.
+- :class:`Box` ``(lower, upper, rounding)``: an axis-aligned box with edges and corners rounded by ``rounding``;
+- :class:`Cylinder` ``(center, radius, height, axis, rounding)``: a capped cylinder, its rim rounded by
+  ``rounding``.
 
-Box and cylinder share one formula, the signed distance to a box of half
-extents e in local coordinates p (3-D for the box, (rho, z) for the
-cylinder): with q = |p| - e componentwise and o = max(q, 0),
+Box and cylinder share one formula, the signed distance to a box of half extents e in local coordinates p (3-D for
+the box, (rho, z) for the cylinder): with q = |p| - e componentwise and o = max(q, 0),
 
     sd = |o| + min(max_i q_i, 0),   grad = sign(p) o / |o|,   hess = (diag(q > 0) - grad grad^T) / |o|
 
-outside (|o| > 0), and the inward face normal, zero Hessian, inside. A sphere
-is that box with e = 0.
+outside (|o| > 0), and the inward face normal, zero Hessian, inside. A sphere is that box with e = 0. Every shape is
+a registered class (:mod:`deformable.registry`) whose ``name`` is its kind in a scene file's ``[[obstacles]]``
+tables; a new convex shape is one subclass with a ``name``, :meth:`Obstacle.derivatives` and
+:meth:`Obstacle.picture`.
 
-Every shape is a registered class (:mod:`deformable.registry`) whose
-``name`` is its kind in a scene file's ``[[obstacles]]`` tables; a new
-convex shape is one subclass with a ``name`` and :meth:`Obstacle.derivatives`.
+Safe steps. The sheet must never cross an obstacle between two Newton iterates (Li et al. 2020, "Incremental
+Potential Contact", ACM TOG 39(4), section 4). Along a segment x + t dx the signed distance phi(t) = d(x + t dx) of
+a convex obstacle is convex in t, so Newton's iteration on phi(t) = L from t = 0 (where phi > L) climbs
+monotonically to the first root from below: every iterate is a safe step. :meth:`Obstacle.first_contact` returns
+that root (to round-off; infinity when phi never reaches L).
 
-Safe steps. The sheet must never cross an obstacle between two iterates of
-Newton's method (Li et al. 2020, "Incremental Potential Contact", ACM TOG
-39(4), section 4: a line search filtered by continuous collision detection).
-Along a segment x + t dx the signed distance phi(t) = d(x + t dx) of a convex
-obstacle is a convex function of t. So Newton's iteration on phi(t) = L from
-t = 0 (where phi > L) climbs monotonically to the first root from below: every
-iterate is itself a safe step, none overshoots, and the convergence is
-quadratic where phi is smooth. :meth:`Obstacle.first_contact` returns that
-root (to round-off; infinity when phi never reaches L): the exact largest step
-along a displacement that keeps every point at distance L or more. A
-non-convex obstacle would need another root finder.
-
-Range. The signed distance of a point near the surface is a difference of
-numbers of the obstacle's size (|x - c| - r for a sphere of centre c, radius
-r), so its round-off is about 4 eps times that size: at a radius of 1e15 m
-every point within a metre of the surface is at distance 0, and at 1e300 the
-squares overflow and every distance is infinite (the ball counted as absent).
-Every length of an obstacle (radius, height, a box's sides) is therefore at
-most :data:`MAX_LENGTH`, where that round-off is 1e-6 m, a thousandth of the
-contact scenes' barrier width (1 mm); a half-space is the limit of a larger
-ball or box, and computes its distance to full precision.
+Range. The signed distance near the surface is a difference of numbers of the obstacle's size, with a round-off of
+about 4 eps times that size; every length of an obstacle (radius, height, a box's sides) is therefore at most
+:data:`MAX_LENGTH`, where that round-off is 1e-6 m. A half-space computes its distance to full precision.
 """
 
 from __future__ import annotations
@@ -146,16 +126,16 @@ def box_distance(p: np.ndarray, e: np.ndarray, hessian: bool = True):
 
 @dataclass(frozen=True)
 class Obstacle(Registered, family="obstacle"):
-    """A rigid obstacle: a convex analytic shape (module docstring), whose subclasses give :meth:`derivatives`, or
-    a triangle mesh (:class:`deformable.contact.meshobstacle.MeshObstacle`, ``analytic`` False), which has none.
+    """A rigid obstacle: a convex analytic shape (module docstring), whose subclasses give :meth:`derivatives`, or a
+    triangle mesh (:class:`deformable.contact.meshobstacle.MeshObstacle`, ``analytic`` False), which has none.
 
     Every method takes points x as an array (P, 3) in scene units (m).
 
     Class attributes
     ----------------
     analytic : bool
-        Whether the shape has a signed distance (:meth:`derivatives`): the sheet then meets it at its contact
-        points (:mod:`deformable.contact.potential`); a mesh meets the sheet's triangles
+        Whether the shape has a signed distance (:meth:`derivatives`): the sheet then meets it at its contact points
+        (:mod:`deformable.contact.potential`); a mesh meets the sheet's triangles
         (:mod:`deformable.contact.meshpotential`).
     moving : bool
         Whether it moves on a prescribed path (the analytic shapes stand still).
@@ -195,8 +175,8 @@ class Obstacle(Registered, family="obstacle"):
         Returns
         -------
         t : array (P,)
-            The root, approached from below (every value returned is a safe
-            step), or infinity where d stays above ``level`` on [0, t_max].
+            The root, approached from below (every value returned is a safe step), or infinity where d stays above
+            ``level`` on [0, t_max].
         """
         x = np.asarray(x, float).reshape(-1, 3)
         dx = np.asarray(dx, float).reshape(-1, 3)
@@ -238,6 +218,14 @@ class Obstacle(Registered, family="obstacle"):
             out[f.name] = getattr(self, f.name)
         return out
 
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """Its picture, a pyvista mesh made with the module ``pv`` (:func:`deformable.io.render.obstacle_mesh`):
+        ``bounds`` (2, 3) the sheet's extent, t the time (s), ``cell`` the sheet's longest cell diagonal h (m). A
+        rounded solid is drawn as its sharp core, never outside the solid, so that a cloth resting on its rounded
+        rim is not drawn cut by a sharp one."""
+        raise InputError(f"no picture for an obstacle of kind {self.kind!r}: {type(self).__name__} needs a "
+                         "picture method", field="obstacle", value=self.kind)
+
 
 @dataclass(frozen=True)
 class HalfSpace(Obstacle):
@@ -266,6 +254,15 @@ class HalfSpace(Obstacle):
         d = (x - np.asarray(self.point)) @ n
         return d, np.broadcast_to(n, x.shape).copy(), np.zeros(x.shape + (3,)) if hessian else None
 
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """A square patch twice the largest extent of ``bounds`` (1 m when that is 0), centred under the bounds'
+        centre (its projection onto the plane)."""
+        n = np.asarray(self.normal)
+        centre = 0.5 * (bounds[0] + bounds[1])
+        centre = centre - float((centre - np.asarray(self.point)) @ n) * n  # projected onto the plane
+        size = 2.0 * float(np.max(bounds[1] - bounds[0])) or 1.0
+        return pv.Plane(center=centre, direction=n, i_size=size, j_size=size)
+
 
 @dataclass(frozen=True)
 class Sphere(Obstacle):
@@ -290,6 +287,14 @@ class Sphere(Obstacle):
         x = np.asarray(x, float).reshape(-1, 3)
         sd, g, H = box_distance(x - np.asarray(self.center), np.zeros(3), hessian)
         return sd - self.radius, g, H
+
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """The ball smaller by the sag h^2 / (8 R) of the chord h = ``cell`` (at most R / 2): the sheet touches it
+        at its contact points, and the flat face between two of them may cut the ball by that much
+        (:mod:`deformable.contact.points`); drawn at full size the ball would show through a cloth on it."""
+        R = self.radius
+        return pv.Sphere(radius=R - min(cell * cell / (8 * R), 0.5 * R), center=self.center, theta_resolution=64,
+                         phi_resolution=64)
 
 
 @dataclass(frozen=True)
@@ -327,6 +332,12 @@ class Box(Obstacle):
         lo, hi = np.asarray(self.lower), np.asarray(self.upper)
         sd, g, H = box_distance(x - 0.5 * (lo + hi), 0.5 * (hi - lo) - self.rounding, hessian)
         return sd - self.rounding, g, H
+
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """Its sharp core: the box shrunk by its rounding."""
+        r = self.rounding
+        lo, hi = np.asarray(self.lower) + r, np.asarray(self.upper) - r
+        return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
 
 
 @dataclass(frozen=True)
@@ -385,6 +396,12 @@ class Cylinder(Obstacle):
             turn = np.eye(3) - np.outer(a, a) - er[:, :, None] * er[:, None, :]
             H += np.where(rho > 0, g2[:, 0] / safe, 0.0)[:, None, None] * turn
         return sd - self.rounding, g, H
+
+    def picture(self, pv, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
+        """Its sharp core: radius and half height less the rounding."""
+        r = self.rounding
+        return pv.Cylinder(center=self.center, direction=self.axis, radius=self.radius - r,
+                           height=self.height - 2 * r, resolution=96, capping=True)
 
 
 def _perpendicular(a: np.ndarray) -> np.ndarray:

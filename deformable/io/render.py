@@ -1,32 +1,20 @@
-r"""Pictures of a sheet: one renderer for ``deformable run --render``, the README's animations and the reports.
+"""Pictures of a sheet: one renderer for ``deformable run --render``, the README's animations and the reports.
 
-A *frame* is the sheet drawn offscreen with pyvista: its surface smooth-shaded under a light kit and
-coloured by a point field, a colour bar with the field's name and unit (:data:`TITLES`), the simulated
-time (``t = 0.40 s``) and a label in the corners, and a scene's obstacles and rods in grey.
-:func:`render_frame` draws one frame into a plotter; :func:`frame_image` draws rows of panels (FD above
-FE, or the start, middle and end of a run) side by side in a fresh plotter, one camera and one colour
-range for all, and returns the screenshot; :func:`png_bytes` and :func:`gif_bytes` encode them (a GIF
-with one palette for all its frames, so that the colours do not flicker and the file stays small).
+A *frame* is the sheet drawn offscreen with pyvista: its surface smooth-shaded under a light kit and coloured by a
+point field, a colour bar with the field's name and unit (:data:`TITLES`), the simulated time (``t = 0.40 s``) and a
+label in the corners, and a scene's obstacles and rods in grey. :func:`render_frame` draws one frame into a plotter;
+:func:`frame_image` draws rows of panels (FD above FE, or the start, middle and end of a run) side by side in a fresh
+plotter, one camera and one colour range for all, and returns the screenshot; :func:`png_bytes` and :func:`gif_bytes`
+encode them (a GIF with one palette for all its frames, so that the colours do not flicker).
 
-:func:`render_series` draws the XDMF time series that :mod:`deformable.io.series` writes (positions
-= mesh points + the point field ``displacement``), so a run that was killed or diverged can still be
-drawn: PNG frames and a GIF. The camera is fixed for the whole series and frames the union of the
-sheet's bounding boxes over all frames; the colour range of the chosen field is fixed over the series
-too, so frames compare. A scene's obstacles (:mod:`deformable.contact.obstacles`) are drawn in every
-frame: a plane as a square patch under the sheet's extent, spheres smaller by the chord's sag of the
-sheet's longest cell diagonal h over the radius R, h^2 / (8 R) (the sheet touches an analytic obstacle at its
-contact points, and the flat face between two of them may cut a ball by that much,
-:mod:`deformable.contact.points`: drawn at full size the ball shows through a cloth resting on it), rounded
-boxes and cylinders as their sharp cores (the solid less its rounding), so that a cloth resting on a rounded
-rim is not drawn cut by a sharp one, and a mesh obstacle as its own triangles where it is at each frame.
+:func:`render_series` draws the XDMF time series that :mod:`deformable.io.series` writes (positions = mesh points +
+the point field ``displacement``), so a run that was killed or diverged can still be drawn: PNG frames and a GIF, the
+camera and the field's colour range fixed over the series. Each obstacle draws itself
+(:meth:`~deformable.contact.obstacles.Obstacle.picture`, through :func:`obstacle_mesh`).
 
-Every picture gets a fresh plotter (:func:`plotter`): ``Plotter.clear()`` removes the light kit too,
-and a plotter reused after it draws under VTK's flat headlight.
-
-Headless machines: VTK falls back from an X window to EGL when no display is
-there, and logs a warning first; choosing EGL up front
-(``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow``) avoids the warning. No
-Xvfb is needed where EGL works (it does on the project's machines).
+Every picture gets a fresh plotter (:func:`plotter`): ``Plotter.clear()`` removes the light kit too. Headless
+machines: VTK falls back from an X window to EGL when no display is there, after a warning; choosing EGL up front
+(``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow``) avoids the warning.
 """
 
 from __future__ import annotations
@@ -102,8 +90,8 @@ def grid_faces(nodes: tuple[int, int]) -> np.ndarray:
 def camera(bounds: np.ndarray, direction=VIEW, margin: float = 1.05):
     """A camera position (position, focal point, view up) framing an axis-aligned box.
 
-    ``bounds`` is (2, 3): min and max corners. The view looks from ``direction`` (by default from the
-    front-right, slightly above), with z up; ``margin`` > 1 leaves room around the box.
+    ``bounds`` is (2, 3): min and max corners. The view looks from ``direction`` (by default from the front-right,
+    slightly above), with z up; ``margin`` > 1 leaves room around the box.
     """
     lo, hi = np.asarray(bounds, float)
     centre = 0.5 * (lo + hi)
@@ -115,9 +103,9 @@ def camera(bounds: np.ndarray, direction=VIEW, margin: float = 1.05):
 
 
 def colour_range(values, percentile: float = 100.0, symmetric: bool = False) -> tuple[float, float]:
-    """(low, high) of the finite ``values``: their ``percentile`` range (100: min and max; 98 leaves a few
-    outlying points out, so they do not wash the rest out); ``symmetric``: about 0, when the values have
-    both signs. Never empty: a constant field gets a range of 1 about its value."""
+    """(low, high) of the finite ``values``: their ``percentile`` range (100: min and max; 98 leaves a few outlying
+    points out, so they do not wash the rest out); ``symmetric``: about 0, when the values have both signs. Never
+    empty: a constant field gets a range of 1 about its value."""
     v = np.concatenate([np.ravel(x) for x in values]) if isinstance(values, (list, tuple)) else np.ravel(values)
     v = v[np.isfinite(v)]
     if not v.size:
@@ -146,8 +134,8 @@ def time_digits(times) -> int:
 
 
 def plotter(size=(640, 480), shape=(1, 1)):
-    """A fresh offscreen plotter of ``shape`` (rows, columns) panels of ``size`` (width, height) pixels each:
-    white background, a light kit in every panel."""
+    """A fresh offscreen plotter of ``shape`` (rows, columns) panels of ``size`` (width, height) pixels each: white
+    background, a light kit in every panel."""
     pv = offscreen_pyvista()
     rows, cols = shape
     p = pv.Plotter(off_screen=True, shape=(rows, cols), window_size=[size[0] * cols, size[1] * rows], border=False,
@@ -163,17 +151,16 @@ def _bar(field: str, title: str | None) -> str:
 def render_frame(plotter, points, faces, values, field, clim, title="", obstacles=(), *, t=None, digits: int = 2,
                  cmap="viridis", bar_title: str | None = None, scalar_bar: bool = True, rods=(), view=None,
                  shift: bool | None = None, font_size: int = 10, clear: bool = True):
-    """Draw one frame into ``plotter``'s active panel (the plotter cleared first and its light kit put back,
-    unless ``clear`` is False: a panel of a layout).
+    """Draw one frame into ``plotter``'s active panel (the plotter cleared first and its light kit put back, unless
+    ``clear`` is False: a panel of a layout).
 
     The surface (``points`` (P, 3), pyvista ``faces``) is smooth-shaded and coloured by ``values`` (P,) over
-    ``clim`` with ``cmap``. The colour bar (``scalar_bar``) stands at the right edge, upright, its title (the
-    field and its unit, :data:`TITLES`, or ``bar_title``) above it and three labels of three significant
-    digits beside it, so that no label meets the title or another label. ``title`` is written upper left,
-    the time ``t`` (s, :func:`time_label` with ``digits`` decimals) upper right. ``obstacles``: pyvista
-    meshes drawn in grey; ``rods``: segments ((x, y, z), (x, y, z)) drawn as dark grey rods (a curtain's
-    rail, a flag's pole); ``view``: a camera position (:func:`camera`); ``shift`` (default: with a colour
-    bar) moves the picture left, clear of the bar.
+    ``clim`` with ``cmap``. The colour bar (``scalar_bar``) stands at the right edge, upright, its title (the field
+    and its unit, :data:`TITLES`, or ``bar_title``) above it and three labels of three significant digits beside it,
+    so that no label meets the title or another label. ``title`` is written upper left, the time ``t`` (s,
+    :func:`time_label` with ``digits`` decimals) upper right. ``obstacles``: pyvista meshes drawn in grey; ``rods``:
+    segments ((x, y, z), (x, y, z)) drawn as dark grey rods (a curtain's rail, a flag's pole); ``view``: a camera
+    position (:func:`camera`); ``shift`` (default: with a colour bar) moves the picture left, clear of the bar.
     """
     pv = offscreen_pyvista()
     if clear:
@@ -213,14 +200,14 @@ def render_frame(plotter, points, faces, values, field, clim, title="", obstacle
 def frame_image(panels, size=(360, 320), *, faces=None, field: str = "", clim=None, view=None, cmap="viridis",
                 bar_title: str | None = None, obstacles=(), rods=(), digits: int | None = None,
                 font_size: int = 10, bar: str = "last") -> np.ndarray:
-    """Rows of :class:`Panel` drawn side by side in a fresh plotter (:func:`plotter`); the screenshot
-    (H, W, 3) uint8.
+    """Rows of :class:`Panel` drawn side by side in a fresh plotter (:func:`plotter`); the screenshot (H, W, 3)
+    uint8.
 
-    One colour range (``clim``, default :func:`colour_range` of all the panels' values), one camera
-    (``view``, default :func:`camera` framing every panel and rod) for all panels; ``faces``: the pyvista
-    faces of the points (default: the quads of each panel's (M, N, 3) node grid, :func:`grid_faces`).
-    ``bar``: which panels carry the colour bar, ``"last"`` (the last of the picture), ``"all"`` or
-    ``"none"``; ``digits``: the time's decimals (default :func:`time_digits` of the panels' times).
+    One colour range (``clim``, default :func:`colour_range` of all the panels' values), one camera (``view``,
+    default :func:`camera` framing every panel and rod) for all panels; ``faces``: the pyvista faces of the points
+    (default: the quads of each panel's (M, N, 3) node grid, :func:`grid_faces`). ``bar``: which panels carry the
+    colour bar, ``"last"`` (the last of the picture), ``"all"`` or ``"none"``; ``digits``: the time's decimals
+    (default :func:`time_digits` of the panels' times).
     """
     rows = [list(r) for r in panels]
     flat = [p for r in rows for p in r]
@@ -260,9 +247,9 @@ def png_bytes(image: np.ndarray, colors: int = 128) -> bytes:
 
 
 def gif_bytes(images, fps: float = 12.0, colors: int = 96) -> bytes:
-    """A looping GIF of pictures, each (H, W, 3) uint8 or the path of an image file: one palette of ``colors``
-    for all (from a mosaic of every sixth picture), no dithering, so that frames do not flicker and the file
-    stays small. Files are read as needed, not all held at once in full colour."""
+    """A looping GIF of pictures, each (H, W, 3) uint8 or the path of an image file: one palette of ``colors`` for
+    all (from a mosaic of every sixth picture), no dithering, so that frames do not flicker and the file stays
+    small. Files are read as needed, not all held at once in full colour."""
     from PIL import Image
 
     def rgb(im):
@@ -283,33 +270,12 @@ def gif_bytes(images, fps: float = 12.0, colors: int = 96) -> bytes:
                 optimize=True)
     return buf.getvalue()
 
+
 def obstacle_mesh(obstacle, bounds: np.ndarray, t: float = 0.0, cell: float = 0.0):
-    """A pyvista mesh of an obstacle; a plane is a square patch twice the extent of ``bounds`` (2, 3); a mesh
-    obstacle its own triangles where they are at time t (s); a sphere smaller by the sag h^2 / (8 R) of a sheet
-    cell's diagonal h = ``cell`` (m) (module docstring)."""
-    pv = offscreen_pyvista()
-    kind = obstacle.kind
-    if not obstacle.analytic:
-        F = np.asarray(obstacle.triangles)
-        return pv.PolyData(np.asarray(obstacle.points(t)), np.column_stack([np.full(len(F), 3), F]).ravel())
-    if kind == "sphere":
-        R = obstacle.radius
-        return pv.Sphere(radius=R - min(cell * cell / (8 * R), 0.5 * R), center=obstacle.center, theta_resolution=64,
-                         phi_resolution=64)
-    r = getattr(obstacle, "rounding", 0.0)  # a rounded solid is drawn as its sharp core, never outside it
-    if kind == "cylinder":
-        return pv.Cylinder(center=obstacle.center, direction=obstacle.axis, radius=obstacle.radius - r,
-                           height=obstacle.height - 2 * r, resolution=96, capping=True)
-    if kind == "box":
-        lo, hi = np.asarray(obstacle.lower) + r, np.asarray(obstacle.upper) - r
-        return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
-    if kind == "plane":
-        n = np.asarray(obstacle.normal)
-        centre = 0.5 * (bounds[0] + bounds[1])
-        centre = centre - float((centre - np.asarray(obstacle.point)) @ n) * n  # projected onto the plane
-        size = 2.0 * float(np.max(bounds[1] - bounds[0])) or 1.0
-        return pv.Plane(center=centre, direction=n, i_size=size, j_size=size)
-    raise ValueError(f"no picture for an obstacle of kind {kind!r}")
+    """A pyvista mesh of an obstacle, which draws itself (:meth:`deformable.contact.Obstacle.picture`): a plane a
+    square patch twice the extent of ``bounds`` (2, 3); a mesh obstacle its own triangles where they are at time t
+    (s); a sphere smaller by the sag h^2 / (8 R) of a sheet cell's diagonal h = ``cell`` (m) (module docstring)."""
+    return obstacle.picture(offscreen_pyvista(), bounds, t, cell)
 
 
 def read_series(xdmf):

@@ -1,45 +1,48 @@
 r"""External forces f(r, t) of the equation of motion (11), some of them depending on the state.
 
-Kinds, so that each backend can integrate them its own way:
+Every force is a :class:`Load` and says itself how it enters F of eq. (21), by the role it subclasses;
+:class:`~deformable.physics.loads.Loads` asks it, never its name:
 
-- ``"body"``: a density per unit of parameter area (N/m^2): :class:`Gravity`
-  (``mu g``) and :class:`BodyForce`;
-- ``"edge"``: :class:`EdgeLoad`, a traction per unit of parameter length on an edge (N/m);
-- ``"point"``: :class:`PointLoad`, a concentrated force at a parameter point (N);
-- ``"moment"``: :class:`EdgeMoment`, a moment per unit of parameter length on an edge (N m/m), about the
-  edge's rest tangent: conservative, the potential ``-m theta`` of the edge's rotation, with its exact
-  gradient and Hessian;
-- ``"spring"``: :class:`Spring`, the paper's "coil" (section 5, the flag): a
-  spring between a material point of the sheet and an anchor (which may move),
-  ``f = -k (|d| - L0) d / |d|``, ``d = r(a) - anchor(t)``: conservative, with
-  the energy ``k (|d| - L0)^2 / 2`` and its exact Hessian for the implicit step;
-- ``"pressure"``: :class:`Pressure`, a follower pressure p on the deformed surface along its normal
-  r_1 x r_2, as the potential -p V of the enclosed volume (:mod:`deformable.physics.pressure`): exact
-  where every edge is held;
-- ``"surface"``: :class:`Wind`, aerodynamic pressure on the sheet's normal with
-  the relative velocity u = w - v (the usual cloth wind model),
-  ``f = c (u . n) |u . n| n`` per unit of *current* area (|r_1 x r_2| per unit
-  parameter area), c = rho C_d / 2; not conservative; its Jacobian in the
-  velocity, ``-df/dv = 2 c |u . n| n n^T`` (positive semi-definite), is a
-  damping the implicit step takes implicitly.
+- :class:`AppliedLoad`, independent of the state: :meth:`AppliedLoad.applied` integrates it over the
+  backend's hooks. :class:`Gravity` (``mu g``) and :class:`BodyForce`, densities per unit of parameter area
+  (N/m^2); :class:`EdgeLoad`, a traction per unit of parameter length on an edge (N/m); :class:`PointLoad`,
+  a concentrated force at a parameter point (N);
+- :class:`ConservativeLoad`, with a potential that depends on the state: its ``potential`` class computes
+  the energy, gradient and Hessian of all the scene's loads of its class together. :class:`Spring`, the
+  paper's "coil" (section 5, the flag), ``f = -k (|d| - L0) d / |d|``, ``d = r(a) - anchor(t)``, energy
+  ``k (|d| - L0)^2 / 2`` (:class:`SpringPotential`); :class:`EdgeMoment`, a moment per unit of parameter
+  length on an edge (N m/m) about its rest tangent, the potential ``-m theta`` of the edge's rotation
+  (:mod:`deformable.physics.moments`); :class:`Pressure`, a follower pressure p along r_1 x r_2, the
+  potential -p V of the enclosed volume, exact where every edge is held (:mod:`deformable.physics.pressure`);
+- :class:`VelocityLoad`, depending on positions and velocities: :class:`Wind`, aerodynamic pressure with
+  the relative velocity u = w - v (the usual cloth wind model), ``f = c (u . n) |u . n| n`` per unit of
+  *current* area (|r_1 x r_2| per unit parameter area), c = rho C_d / 2; not conservative; its Jacobian
+  in the velocity, ``-df/dv = 2 c |u . n| n n^T`` (positive semi-definite), is a damping the implicit
+  step takes implicitly.
 
-Each may vary in time through ``time``, a callable ``t -> factor`` such as
-:class:`Sinusoidal`; a body force may also be a callable of (a1, a2, t), a
-spring's anchor and the wind's velocity callables of t.
+A user's load is one subclass of a role (a frozen dataclass, as these are); a Scene takes it as it takes
+these. Each may vary in time through ``time``, a callable ``t -> factor`` such as :class:`Sinusoidal`; a
+body force may also be a callable of (a1, a2, t), a spring's anchor and the wind's velocity callables of t.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
+import scipy.sparse as sp
 
+from ..algebra.patterns import FixedPattern
 from ..checks import function, real, vector
 from ..errors import InputError
 from ..geometry.sheet import EDGES
+from .moments import EdgeMoments, rotation_angle
+from .pressure import PressurePotential
 
-__all__ = ["Gravity", "BodyForce", "EdgeLoad", "EdgeMoment", "PointLoad", "Pressure", "Spring", "Wind", "Sinusoidal", "Force"]
+__all__ = ["Load", "ROLES", "AppliedLoad", "BodyLoad", "ConservativeLoad", "VelocityLoad", "Gravity", "BodyForce",
+           "EdgeLoad", "EdgeMoment", "PointLoad", "Pressure", "Spring", "SpringPotential", "Wind", "Sinusoidal",
+           "Force"]
 
 
 def _vector(name: str, value) -> np.ndarray:
@@ -67,14 +70,68 @@ def _factor(time, t: float) -> float:
     return 1.0 if time is None else float(time(t))
 
 
+class Load:
+    """A load of a Scene: the protocol :class:`~deformable.physics.loads.Loads` asks (module docstring); a load
+    subclasses one of the roles :class:`AppliedLoad`, :class:`ConservativeLoad` or :class:`VelocityLoad`."""
+
+    def check(self, sheet) -> None:
+        """InputError when the load does not fit the sheet (a point outside its rectangle); nothing by default."""
+
+
+class AppliedLoad(Load):
+    """A load independent of the state, which :meth:`applied` integrates over the model's hooks."""
+
+    #: a concentrated load: summed after the distributed ones (F of eq. (21) sums the body and edge loads in the
+    #: scene's order, then the point loads)
+    concentrated: ClassVar[bool] = False
+
+    def applied(self, loads, t: float) -> np.ndarray:
+        """The integrated force at time t, (ndof, 3) (N). ``loads`` is the model's Loads: its ``model`` (the
+        backend's hooks, :mod:`deformable.physics.loads`), :meth:`~deformable.physics.loads.Loads.edge_rule`
+        and :meth:`~deformable.physics.loads.Loads.point_dofs`, each built once."""
+        raise NotImplementedError
+
+
+class BodyLoad(AppliedLoad):
+    """A force density per unit of parameter area (N/m^2), ``density(a1, a2, t, mu)``, integrated against the
+    backend's basis: ``integral f phi_k``."""
+
+    def density(self, a1, a2, t: float, mu) -> np.ndarray:
+        raise NotImplementedError
+
+    def applied(self, loads, t: float) -> np.ndarray:
+        m = loads.model
+        return m.integrate(self.density(*m.points, t, m.mu))
+
+
+class ConservativeLoad(Load):
+    """A load with a potential that depends on the state. ``potential`` is the class that computes it for all
+    the scene's loads naming it, built once as ``potential(model, loads)`` (the loads in the scene's order), with
+    ``energy``, ``gradient`` and ``hessian`` of (X, t, factor) (J, (ndof, 3), (3 ndof, 3 ndof) blocked on a fixed
+    pattern) and the class attributes ``rank`` (its place in the sum: springs 0, moments 1, pressures 2),
+    ``factored`` (the load factor of ``equilibrium`` scales it) and ``linear`` (its Hessian does not depend on
+    the state; may be an instance's attribute)."""
+
+    potential: ClassVar[type]
+
+
+class VelocityLoad(Load):
+    """A load depending on positions and velocities, not conservative: ``density(n, area, v, t)`` per unit of
+    parameter area (P, 3) at points of unit normal n (P, 3), area element |r_1 x r_2| (P,) and velocity v (P, 3),
+    and ``damping(n, area, v, t)``, its Jacobian -d density / dv (P, 3, 3)."""
+
+
+#: the roles a Scene's load subclasses
+ROLES = (AppliedLoad, ConservativeLoad, VelocityLoad)
+
+
 @dataclass(frozen=True)
-class Gravity:
+class Gravity(BodyLoad):
     """Weight ``mu g direction`` per unit area (N/m^2); g in m/s^2."""
 
     g: float = 9.81
     direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
     time: Callable[[float], float] | None = None
-    kind = "body"
 
     def __post_init__(self):
         object.__setattr__(self, "g", real("Gravity.g", self.g))
@@ -94,7 +151,7 @@ class Gravity:
 
 
 @dataclass(frozen=True)
-class BodyForce:
+class BodyForce(BodyLoad):
     """A force density per unit area (N/m^2), constant or a callable of (a1, a2, t).
 
     Parameters
@@ -109,7 +166,6 @@ class BodyForce:
     f: object = (0.0, 0.0, 0.0)
     where: Callable | None = None
     time: Callable[[float], float] | None = None
-    kind = "body"
 
     def __post_init__(self):
         if not callable(self.f):
@@ -129,7 +185,7 @@ class BodyForce:
 
 
 @dataclass(frozen=True)
-class EdgeLoad:
+class EdgeLoad(AppliedLoad):
     """A traction per unit of parameter length (N/m) on one edge.
 
     ``f`` is a 3-vector or a callable (a1, a2, t) -> (..., 3) evaluated on the edge.
@@ -138,7 +194,6 @@ class EdgeLoad:
     edge: str
     f: object = (0.0, 0.0, 0.0)
     time: Callable[[float], float] | None = None
-    kind = "edge"
 
     def __post_init__(self):
         if not isinstance(self.edge, str) or self.edge not in EDGES:
@@ -155,9 +210,14 @@ class EdgeLoad:
             out = np.broadcast_to(np.asarray(self.f), a1.shape + (3,))
         return _factor(self.time, t) * out
 
+    def applied(self, loads, t: float) -> np.ndarray:
+        """``at^T (w q)`` over the backend's rule on the edge (:class:`~deformable.backends.contract.EdgeRule`)."""
+        rule = loads.edge_rule(self.edge)
+        return rule.at.T @ (rule.weights[:, None] * self.traction(rule.a1, rule.a2, t))
+
 
 @dataclass(frozen=True)
-class EdgeMoment:
+class EdgeMoment(ConservativeLoad):
     r"""A moment per unit of parameter length (N m/m) on one edge, about the edge's tangent at rest.
 
     The edge's rotation theta at each point is the angle by which the sheet's tangent across the edge (r_1
@@ -186,7 +246,7 @@ class EdgeMoment:
     edge: str
     m: object = 0.0
     time: Callable[[float], float] | None = None
-    kind = "moment"
+    potential = EdgeMoments
 
     def __post_init__(self):
         if not isinstance(self.edge, str) or self.edge not in EDGES:
@@ -202,27 +262,12 @@ class EdgeMoment:
         m = np.broadcast_to(np.asarray(self.m(a1, a2, t) if callable(self.m) else self.m, float), a1.shape)
         return _factor(self.time, t) * m
 
-    @staticmethod
-    def angle(d: np.ndarray, u0: np.ndarray, v0: np.ndarray, reference: np.ndarray):
-        """theta, d theta / d d and d^2 theta / d d^2 at P points: (P,), (P, 3), (P, 3, 3).
-
-        ``d`` (P, 3) the tangents, ``u0``, ``v0`` (P, 3) the rest frame, ``reference`` (P,) the angles to
-        unwrap against (theta lies within pi of it). With x = d . u0, y = d . v0, rho^2 = x^2 + y^2:
-        dtheta = (x v0 - y u0) / rho^2, and in (x, y) the Hessian [[2 x y, y^2 - x^2], [y^2 - x^2, -2 x y]] / rho^4.
-        """
-        x, y = np.sum(d * u0, -1), np.sum(d * v0, -1)
-        rho2 = x**2 + y**2
-        theta = reference + np.angle(np.exp(1j * (np.arctan2(y, x) - reference)))
-        g = (x[:, None] * v0 - y[:, None] * u0) / rho2[:, None]
-        hxx, hxy = 2 * x * y / rho2**2, (y**2 - x**2) / rho2**2
-        uu, vv = np.einsum("pi,pj->pij", u0, u0), np.einsum("pi,pj->pij", v0, v0)
-        uv = np.einsum("pi,pj->pij", u0, v0)
-        H = hxx[:, None, None] * (uu - vv) + hxy[:, None, None] * (uv + np.swapaxes(uv, 1, 2))
-        return theta, g, H
+    #: theta, d theta / d d and d^2 theta / d d^2 (:func:`deformable.physics.moments.rotation_angle`)
+    angle = staticmethod(rotation_angle)
 
 
 @dataclass(frozen=True)
-class Pressure:
+class Pressure(ConservativeLoad):
     r"""A follower pressure p (Pa = N/m^2) on the deformed sheet, along its normal: the force density
     ``p r_1 x r_2`` per unit parameter area (p |r_1 x r_2| n per unit current area, n = r_1 x r_2 / |.|).
 
@@ -237,7 +282,7 @@ class Pressure:
 
     p: float = 0.0
     time: Callable[[float], float] | None = None
-    kind = "pressure"
+    potential = PressurePotential
 
     def __post_init__(self):
         object.__setattr__(self, "p", real("Pressure.p", self.p))
@@ -249,13 +294,13 @@ class Pressure:
 
 
 @dataclass(frozen=True)
-class PointLoad:
+class PointLoad(AppliedLoad):
     """A concentrated force (N) at the parameter point ``at`` = (a1, a2)."""
 
     at: tuple[float, float]
     f: tuple[float, float, float] = (0.0, 0.0, 0.0)
     time: Callable[[float], float] | None = None
-    kind = "point"
+    concentrated = True
 
     def __post_init__(self):
         object.__setattr__(self, "at", _point("PointLoad.at", self.at))
@@ -264,6 +309,16 @@ class PointLoad:
 
     def force(self, t: float) -> np.ndarray:
         return _factor(self.time, t) * np.asarray(self.f)
+
+    def check(self, sheet) -> None:
+        sheet.locate(self.at, f"{type(self).__name__}.at")  # inside the rectangle, or an InputError naming it
+
+    def applied(self, loads, t: float) -> np.ndarray:
+        """The force at the point's degrees of freedom, ``w_k f`` (``r(a) = sum_k w_k X_k``)."""
+        dofs, w = loads.point_dofs(self.at, "PointLoad.at")
+        F = np.zeros((loads.n, 3))
+        F[dofs] += w[:, None] * self.force(t)[None]
+        return F
 
 
 def _point(name: str, value) -> tuple:
@@ -279,8 +334,51 @@ def _at_time(name: str, value, t: float) -> np.ndarray:
     return _vector(f"{name} at t = {t:g}", value(t)) if callable(value) else np.asarray(value, float)
 
 
+class SpringPotential:
+    """The scene's springs on a model: the sum of their energies k (|r(a) - anchor| - L0)^2 / 2 (J) at their points
+    ``r(a) = sum_k w_k X_k``, its gradient (minus the springs' force) and its Hessian (each spring's definite part,
+    :meth:`Spring.hessian`), (3 ndof, 3 ndof) coordinate-blocked on one fixed pattern. The load factor does not
+    scale it."""
+
+    rank, factored = 0, False
+
+    def __init__(self, model, springs):
+        self.n = n = model.ndof
+        self.parts = [(s, *model.point_dofs(s.at, "Spring.at")) for s in springs]
+        #: linear springs only (rest length 0): the Hessian does not depend on the state
+        self.linear = all(s.rest_length == 0 for s in springs)
+        rows, cols = [], []
+        for _, dofs, _ in self.parts:
+            k = dofs.size
+            for a in range(3):
+                for b in range(3):
+                    rows.append(np.repeat(a * n + dofs, k))
+                    cols.append(np.tile(b * n + dofs, k))
+        self._pattern = FixedPattern(np.concatenate(rows), np.concatenate(cols), (3 * n, 3 * n))
+
+    def _ends(self, X):
+        return [(s, dofs, w, w @ X[dofs]) for s, dofs, w in self.parts]
+
+    def energy(self, X: np.ndarray, t: float, factor: float = 1.0) -> float:
+        return float(sum(s.energy(r, t) for s, _, _, r in self._ends(X)))
+
+    def gradient(self, X: np.ndarray, t: float, factor: float = 1.0) -> np.ndarray:
+        G = np.zeros((self.n, 3))
+        for s, dofs, w, r in self._ends(X):
+            G[dofs] -= w[:, None] * s.force(r, t)[None]
+        return G
+
+    def hessian(self, X: np.ndarray, t: float, factor: float = 1.0) -> sp.csr_matrix:
+        values = []
+        for s, dofs, w, r in self._ends(X):
+            H = s.hessian(r, t)
+            ww = np.outer(w, w).ravel()
+            values += [H[a, b] * ww for a in range(3) for b in range(3)]
+        return self._pattern.matrix(self._pattern.data(np.concatenate(values)))
+
+
 @dataclass(frozen=True)
-class Spring:
+class Spring(ConservativeLoad):
     """The paper's "coil": a spring from the material point ``at`` to an anchor (section 5, the flag).
 
     Parameters
@@ -299,7 +397,7 @@ class Spring:
     anchor: object = (0.0, 0.0, 0.0)
     stiffness: float = 1.0
     rest_length: float = 0.0
-    kind = "spring"
+    potential = SpringPotential
 
     def __post_init__(self):
         object.__setattr__(self, "at", _point("Spring.at", self.at))
@@ -309,6 +407,9 @@ class Spring:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"Spring.{name} must be a finite non-negative number, got {v!r}")
             object.__setattr__(self, name, float(v))
+
+    def check(self, sheet) -> None:
+        sheet.locate(self.at, f"{type(self).__name__}.at")  # inside the rectangle, or an InputError naming it
 
     def _d(self, r, t):
         d = np.asarray(r, float) - _at_time("Spring.anchor", self.anchor, t)
@@ -338,7 +439,7 @@ class Spring:
 
 
 @dataclass(frozen=True)
-class Wind:
+class Wind(VelocityLoad):
     """Aerodynamic pressure on the sheet, ``c ((w - v)·n) |(w - v)·n| n`` per unit current area (N/m^2).
 
     Parameters
@@ -354,7 +455,6 @@ class Wind:
     velocity: object = (0.0, 0.0, 0.0)
     coefficient: float = 0.6
     time: Callable[[float], float] | None = None
-    kind = "surface"
 
     def __post_init__(self):
         object.__setattr__(self, "velocity", _of_time("Wind.velocity", self.velocity))
@@ -380,4 +480,5 @@ class Wind:
         return (2 * self.coefficient * np.abs(un) * area)[:, None, None] * n[:, :, None] * n[:, None, :]
 
 
-Force = Gravity | BodyForce | EdgeLoad | EdgeMoment | PointLoad | Pressure | Spring | Wind
+#: every force of a Scene (formerly the union of the classes above; now the protocol they and a user's loads share)
+Force = Load

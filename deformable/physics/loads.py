@@ -18,19 +18,21 @@ these backend hooks (the backend contract, :mod:`deformable.backends`):
   derivative across the edge as fixed sparse matrices), which integrates edge
   tractions (``at^T (w q)``) and edge moments.
 
-The forces (:mod:`deformable.physics.forces`):
+The forces (:mod:`deformable.physics.forces`) are asked, never named: each says by its role what it adds.
 
-- applied, independent of the state: body densities (gravity ``mu g``),
-  edge tractions, point loads;
-- springs (the paper's "coils", section 5) and edge moments
-  (:mod:`deformable.physics.moments`): conservative, with an energy, its
-  gradient and Hessian; the implicit schemes and the equilibrium treat them as
-  part of the potential (:meth:`Loads.potential_energy` and its derivatives;
-  ``factor`` scales the moments with ``equilibrium``'s load steps);
-- wind: ``c ((w - v) . n) |(w - v) . n| n`` per unit current area, depending
-  on positions (n, area) and velocities (v); its Jacobian in v, the damping
-  ``D = integral 2 c |u . n| |r_1 x r_2| n n^T phi_k phi_l``, lets the implicit
-  schemes take the wind's velocity dependence implicitly (a damping).
+- applied loads (:class:`~deformable.physics.forces.AppliedLoad`), independent of the state: each integrates
+  itself (:meth:`~deformable.physics.forces.AppliedLoad.applied`; body densities such as gravity ``mu g``,
+  edge tractions, point loads), summed in the scene's order, the concentrated ones last;
+- conservative loads (:class:`~deformable.physics.forces.ConservativeLoad`): the springs (the paper's
+  "coils", section 5), edge moments (:mod:`deformable.physics.moments`) and pressures
+  (:mod:`deformable.physics.pressure`), each class's potential built once over all its loads, with an energy,
+  its gradient and Hessian; the implicit schemes and the equilibrium treat them as part of the potential
+  (:meth:`Loads.potential_energy` and its derivatives; ``factor`` scales the moments and pressures with
+  ``equilibrium``'s load steps);
+- velocity loads (:class:`~deformable.physics.forces.VelocityLoad`), the wind:
+  ``c ((w - v) . n) |(w - v) . n| n`` per unit current area, depending on positions (n, area) and
+  velocities (v); its Jacobian in v, the damping ``D = integral 2 c |u . n| |r_1 x r_2| n n^T phi_k phi_l``,
+  lets the implicit schemes take the wind's velocity dependence implicitly (a damping).
 
 Blocked matrices (the springs' Hessian, the wind's damping) follow the
 contract's coordinate-blocked index ``a * ndof + k`` and keep one sparsity
@@ -42,8 +44,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..algebra.patterns import BlockPattern, FixedPattern
+from ..algebra.patterns import BlockPattern
 from ..geometry.tensors import frame
+from .forces import AppliedLoad, ConservativeLoad, SpringPotential, VelocityLoad
 from .moments import EdgeMoments
 from .pressure import PressurePotential
 
@@ -60,53 +63,55 @@ class Loads:
     ----------
     model : Backend
         Built far enough to have its hooks (``points``, ``mu``, ``integrate``,
-        ``at_points``, ``density_matrix``, ``point_dofs``, ``edge_load``).
+        ``at_points``, ``density_matrix``, ``point_dofs``, ``edge_rule``).
 
     Attributes
     ----------
-    springs, moments, winds : tuples of the scene's Spring, EdgeMoment and Wind forces
+    winds : tuple of the scene's velocity loads (Wind)
+    parts : list
+        The potentials of the conservative loads, one per ``potential`` class, by ``rank`` (springs, moments,
+        pressures).
     potentials : bool
-        Springs or moments: a potential that depends on the state.
+        Conservative loads: a potential that depends on the state.
     conservative : bool
         No wind: the external force is the gradient of a potential.
     linear : bool
-        Conservative with linear springs only (rest length 0) and no moment: the
-        Hessian of the potential does not depend on the state.
+        Conservative, every potential with a constant Hessian (linear springs only, rest length 0; no moment, no
+        pressure): the Hessian of the potential does not depend on the state.
     """
 
     def __init__(self, model):
         self.model, self.n = model, model.ndof
         forces = model.scene.forces
-        self.springs = tuple(f for f in forces if f.kind == "spring")
-        self.moments = tuple(f for f in forces if f.kind == "moment")
-        self.pressures = tuple(f for f in forces if f.kind == "pressure")
-        self.winds = tuple(f for f in forces if f.kind == "surface")
-        self.potentials = bool(self.springs or self.moments or self.pressures)
+        #: the applied loads, distributed ones first, each in the scene's order (a stable sort)
+        self._applied = sorted((f for f in forces if isinstance(f, AppliedLoad)), key=lambda f: f.concentrated)
+        self.winds = tuple(f for f in forces if isinstance(f, VelocityLoad))
+        groups: dict[type, list] = {}
+        for f in forces:
+            if isinstance(f, ConservativeLoad):
+                groups.setdefault(f.potential, []).append(f)
+        self.parts = [cls(model, tuple(fs)) for cls, fs in sorted(groups.items(), key=lambda g: g[0].rank)]
+        self.potentials = bool(self.parts)
         self.conservative = not self.winds
-        self.linear = self.conservative and not self.moments and not self.pressures and all(s.rest_length == 0 for s in self.springs)
-        self._rules = {}
-        self._moments = EdgeMoments(model, self.moments) if self.moments else None
-        self._pressure = PressurePotential(model, self.pressures) if self.pressures else None
+        self.linear = self.conservative and all(p.linear for p in self.parts)
+        self._free = [p for p in self.parts if not p.factored]
         #: the state-dependent loads that scale with the load factor (moments, pressures)
-        self._factored = [p for p in (self._moments, self._pressure) if p is not None]
-        self._points = [(f, *model.point_dofs(f.at, "PointLoad.at")) for f in forces if f.kind == "point"]
-        self._springs = [(s, *model.point_dofs(s.at, "Spring.at")) for s in self.springs]
-        self._spring_pattern = self._spring_hessian_pattern() if self.springs else None
+        self._factored = [p for p in self.parts if p.factored]
+        self._springs, self._moments, self._pressure = (self.part(c) for c in (SpringPotential, EdgeMoments,
+                                                                                  PressurePotential))
+        self._rules, self._points = {}, {}
         self._wind_pattern = None
+
+    def part(self, cls):
+        """The potential of the scene's loads that ``cls`` computes (an instance of it), or None."""
+        return next((p for p in self.parts if isinstance(p, cls)), None)
 
     # -- applied loads ----------------------------------------------------------
     def applied(self, t: float) -> np.ndarray:
-        """Body, edge and point loads at time t, (ndof, 3) (N)."""
-        m = self.model
+        """The applied loads at time t, (ndof, 3) (N): each integrates itself (body, edge and point loads)."""
         F = np.zeros((self.n, 3))
-        for force in m.scene.forces:
-            if force.kind == "body":
-                F += m.integrate(force.density(*m.points, t, m.mu))
-            elif force.kind == "edge":
-                rule = self.edge_rule(force.edge)
-                F += rule.at.T @ (rule.weights[:, None] * force.traction(rule.a1, rule.a2, t))
-        for force, dofs, w in self._points:
-            F[dofs] += w[:, None] * force.force(t)[None]
+        for force in self._applied:
+            F += force.applied(self, t)
         return F
 
     def edge_rule(self, name: str):
@@ -115,8 +120,15 @@ class Loads:
             self._rules[name] = self.model.edge_rule(name)
         return self._rules[name]
 
+    def point_dofs(self, at: tuple, what: str):
+        """The model's degrees of freedom and weights of ``r(at) = sum_k w_k X_k`` (built once); ``what`` names
+        the point in an error."""
+        if (at, what) not in self._points:
+            self._points[at, what] = self.model.point_dofs(at, what)
+        return self._points[at, what]
+
     def total(self, X: np.ndarray, t: float, V: np.ndarray | None = None) -> np.ndarray:
-        """F of eq. (21): applied loads, springs and moments at X and wind at (X, V) (V None: at rest), (ndof, 3)
+        """F of eq. (21): applied loads, the potentials' force at X and wind at (X, V) (V None: at rest), (ndof, 3)
         (N)."""
         F = self.applied(t)
         if self.potentials:
@@ -125,15 +137,14 @@ class Loads:
             F += self.wind_force(X, V, t)
         return F
 
-    # -- the potential of springs and moments -------------------------------------
+    # -- the potentials of springs, moments and pressures --------------------------
     def potential_energy(self, X: np.ndarray, t: float, factor: float = 1.0) -> float:
-        """The springs' energy and the moments' and pressures' potentials (J); ``factor`` scales the latter."""
-        e = self.spring_energy(X, t) if self.springs else 0.0
-        return e + sum(p.energy(X, t, factor) for p in self._factored)
+        """The potentials' energy (J): the springs' and those ``factor`` scales (moments, pressures)."""
+        return sum(p.energy(X, t, factor) for p in self._free) + sum(p.energy(X, t, factor) for p in self._factored)
 
     def potential_gradient(self, X: np.ndarray, t: float, factor: float = 1.0) -> np.ndarray:
-        """The gradient of :meth:`potential_energy`, (ndof, 3) (N): minus the springs' and moments' force."""
-        G = self.spring_gradient(X, t) if self.springs else np.zeros((self.n, 3))
+        """The gradient of :meth:`potential_energy`, (ndof, 3) (N): minus the conservative loads' force."""
+        G = sum((p.gradient(X, t, factor) for p in self._free), np.zeros((self.n, 3)))
         return G + sum(p.gradient(X, t, factor) for p in self._factored)
 
     def factored_gradient(self, X: np.ndarray, t: float) -> np.ndarray:
@@ -143,45 +154,21 @@ class Loads:
 
     def potential_hessians(self, X: np.ndarray, t: float, factor: float = 1.0) -> list:
         """The Hessians of :meth:`potential_energy`, each (3 ndof, 3 ndof) blocked on its fixed pattern."""
-        out = [self.spring_hessian(X, t)] if self.springs else []
-        return out + [p.hessian(X, t, factor) for p in self._factored]
+        return [p.hessian(X, t, factor) for p in self._free + self._factored]
 
-    # -- springs -----------------------------------------------------------------
-    def _ends(self, X):
-        return [(s, dofs, w, w @ X[dofs]) for s, dofs, w in self._springs]
-
+    # -- springs (their potential, :class:`~deformable.physics.forces.SpringPotential`) ------------------------
     def spring_energy(self, X: np.ndarray, t: float) -> float:
         """Sum of k (|r(a) - anchor| - L0)^2 / 2 over the springs (J)."""
-        return float(sum(s.energy(r, t) for s, _, _, r in self._ends(X)))
+        return self._springs.energy(X, t) if self._springs else 0.0
 
     def spring_gradient(self, X: np.ndarray, t: float) -> np.ndarray:
         """Gradient of :meth:`spring_energy` (N), (ndof, 3): minus the springs' force."""
-        G = np.zeros((self.n, 3))
-        for s, dofs, w, r in self._ends(X):
-            G[dofs] -= w[:, None] * s.force(r, t)[None]
-        return G
-
-    def _spring_hessian_pattern(self) -> FixedPattern:
-        rows, cols = [], []
-        n = self.n
-        for _, dofs, _ in self._springs:
-            k = dofs.size
-            for a in range(3):
-                for b in range(3):
-                    rows.append(np.repeat(a * n + dofs, k))
-                    cols.append(np.tile(b * n + dofs, k))
-        return FixedPattern(np.concatenate(rows), np.concatenate(cols), (3 * n, 3 * n))
+        return self._springs.gradient(X, t) if self._springs else np.zeros((self.n, 3))
 
     def spring_hessian(self, X: np.ndarray, t: float) -> sp.csr_matrix | None:
-        """Hessian of :meth:`spring_energy`, (3 ndof, 3 ndof) blocked, fixed pattern (definite part); None without springs."""
-        if not self.springs:
-            return None
-        values = []
-        for s, dofs, w, r in self._ends(X):
-            H = s.hessian(r, t)
-            ww = np.outer(w, w).ravel()
-            values += [H[a, b] * ww for a in range(3) for b in range(3)]
-        return self._spring_pattern.matrix(self._spring_pattern.data(np.concatenate(values)))
+        """Hessian of :meth:`spring_energy`, (3 ndof, 3 ndof) blocked, fixed pattern (definite part); None without
+        springs."""
+        return self._springs.hessian(X, t) if self._springs else None
 
     # -- wind --------------------------------------------------------------------
     def _surface(self, X, V):
@@ -200,7 +187,8 @@ class Loads:
         return self.model.integrate(f.reshape(*shape, 3))
 
     def wind_damping(self, X: np.ndarray, V: np.ndarray | None, t: float) -> sp.csr_matrix | None:
-        """-d(wind force)/dV, (3 ndof, 3 ndof) blocked, symmetric positive semi-definite, fixed pattern; None without wind."""
+        """-d(wind force)/dV, (3 ndof, 3 ndof) blocked, symmetric positive semi-definite, fixed pattern; None without
+        wind."""
         if not self.winds:
             return None
         m = self.model

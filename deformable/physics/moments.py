@@ -21,13 +21,33 @@ import scipy.sparse as sp
 
 from ..algebra.patterns import FixedPattern
 from ..geometry.surfaces import as_surface
-from .forces import EdgeMoment
 
-__all__ = ["EdgeMoments"]
+__all__ = ["EdgeMoments", "rotation_angle"]
+
+
+def rotation_angle(d: np.ndarray, u0: np.ndarray, v0: np.ndarray, reference: np.ndarray):
+    """theta, d theta / d d and d^2 theta / d d^2 at P points: (P,), (P, 3), (P, 3, 3).
+
+    ``d`` (P, 3) the tangents, ``u0``, ``v0`` (P, 3) the rest frame, ``reference`` (P,) the angles to
+    unwrap against (theta lies within pi of it). With x = d . u0, y = d . v0, rho^2 = x^2 + y^2:
+    dtheta = (x v0 - y u0) / rho^2, and in (x, y) the Hessian [[2 x y, y^2 - x^2], [y^2 - x^2, -2 x y]] / rho^4.
+    """
+    x, y = np.sum(d * u0, -1), np.sum(d * v0, -1)
+    rho2 = x**2 + y**2
+    theta = reference + np.angle(np.exp(1j * (np.arctan2(y, x) - reference)))
+    g = (x[:, None] * v0 - y[:, None] * u0) / rho2[:, None]
+    hxx, hxy = 2 * x * y / rho2**2, (y**2 - x**2) / rho2**2
+    uu, vv = np.einsum("pi,pj->pij", u0, u0), np.einsum("pi,pj->pij", v0, v0)
+    uv = np.einsum("pi,pj->pij", u0, v0)
+    H = hxx[:, None, None] * (uu - vv) + hxy[:, None, None] * (uv + np.swapaxes(uv, 1, 2))
+    return theta, g, H
 
 
 class EdgeMoments:
-    """The scene's edge moments on a model (module docstring)."""
+    """The scene's edge moments on a model (module docstring): the potential of
+    :class:`~deformable.physics.forces.EdgeMoment`, second in the sum of potentials, scaled by the load factor."""
+
+    rank, factored, linear = 1, True, False
 
     def __init__(self, model, moments):
         self.model, self.n = model, model.ndof
@@ -71,7 +91,7 @@ class EdgeMoments:
         for part in self.parts:
             rule = part["rule"]
             d = part["sign"] * (part["A"] @ X)
-            theta, g, H = EdgeMoment.angle(d, part["u0"], part["v0"], part["reference"])
+            theta, g, H = rotation_angle(d, part["u0"], part["v0"], part["reference"])
             wm = factor * rule.weights * part["moment"].moment(rule.a1, rule.a2, t)
             out.append((part, theta, g, H, wm))
         return out
@@ -96,5 +116,5 @@ class EdgeMoments:
 
     def angles(self, X) -> list[np.ndarray]:
         """The unwrapped rotation theta (rad) at each moment's points, against the current references."""
-        return [EdgeMoment.angle(part["sign"] * (part["A"] @ X), part["u0"], part["v0"], part["reference"])[0]
+        return [rotation_angle(part["sign"] * (part["A"] @ X), part["u0"], part["v0"], part["reference"])[0]
                 for part in self.parts]

@@ -38,7 +38,10 @@ def _skew(a: np.ndarray) -> np.ndarray:
 
 
 class PressurePotential:
-    """The scene's pressures on a model (module docstring)."""
+    """The scene's pressures on a model (module docstring): the potential of
+    :class:`~deformable.physics.forces.Pressure`, third in the sum of potentials, scaled by the load factor."""
+
+    rank, factored, linear = 2, True, False
 
     def __init__(self, model, pressures):
         self.model, self.n, self.pressures = model, model.ndof, tuple(pressures)

@@ -22,7 +22,7 @@ from ..errors import IllPosedScene, InputError
 from ..geometry.compatibility import warn_if_incompatible
 from ..geometry.sheet import Sheet
 from ..physics.force_models import ForceModel
-from ..physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad, Pressure, Spring, Wind
+from ..physics.forces import ROLES
 from ..physics.material import Material
 from .constraints import Clamp, Pin, Slide, Symmetry
 
@@ -51,7 +51,9 @@ class Scene:
     ----------
     sheet : Sheet
     material : Material
-    forces : sequence of Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure, Spring, Wind
+    forces : sequence of Load
+        Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure, Spring, Wind, or a user's load: any
+        subclass of a role of :class:`deformable.physics.forces.Load` (asked what it adds, never named).
     constraints : sequence of Pin, Slide, Clamp, Symmetry
     force_model : str or ForceModel
         The force of eq. (11): a registered name ("tpbf87", "frozen", "variational", or a user's energy
@@ -108,12 +110,11 @@ class Scene:
         object.__setattr__(self, "force_model", force_model)
         self.material.check(self.sheet.nodes)
         nodal = self.nodal_material()  # evaluates a callable weight at the nodes: an InputError naming it
-        forces = sequence("Scene.forces", self.forces, (Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure,
-                                                        Spring, Wind),
-                          "Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, Pressure, Spring or Wind")
+        forces = sequence("Scene.forces", self.forces, ROLES, "Gravity, BodyForce, EdgeLoad, EdgeMoment, PointLoad, "
+                          "Pressure, Spring, Wind or another load (a subclass of AppliedLoad, ConservativeLoad or "
+                          "VelocityLoad, deformable.physics.forces)")
         for f in forces:
-            if isinstance(f, (PointLoad, Spring)):
-                self.sheet.locate(f.at, f"{type(f).__name__}.at")  # inside the rectangle, or a ValueError naming it
+            f.check(self.sheet)  # a point load's or a spring's point inside the rectangle, or an InputError naming it
         constraints = sequence("Scene.constraints", self.constraints, (Pin, Slide, Clamp, Symmetry),
                                "Pin, Slide, Clamp or Symmetry")
         if not isinstance(self.name, str):

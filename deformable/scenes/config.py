@@ -34,7 +34,41 @@ from ..registry import Registered
 from ..scene.scene import Scene
 from .rest_shapes import from_table as rest_shape_from_table
 
-__all__ = ["SceneConfig"]
+__all__ = ["SceneConfig", "force_model_field", "force_model_table"]
+
+
+def force_model_field(value, where: str = "scene field force_model"):
+    """A config's force model: a registered name, kept as it is; a ``[force_model]`` table, its ``kind`` the name
+    and beside it the model's own fields (Koiter's E, nu, h), as obstacles are [[obstacles]] tables: the name
+    when there are none, else the model built from them; a ForceModel, its name when it has no parameters.
+    InputError naming the field (``force_model``, ``force_model.kind`` or the unknown key) and the known names."""
+    names = ", ".join(ForceModel.names())
+    if isinstance(value, ForceModel):
+        return value.name if value == value.name else value
+    if isinstance(value, str):
+        if value not in ForceModel.names():
+            raise InputError(f"{where} must be one of {names}, got {value!r}", field="force_model", value=value)
+        return value
+    if not isinstance(value, dict):
+        raise InputError(f"{where} must be a name ({names}) or a [force_model] table with a kind, got {value!r}",
+                         field="force_model", value=value)
+    table = dict(value)
+    kind = table.pop("kind", None)
+    if not isinstance(kind, str) or kind not in ForceModel.names():
+        raise InputError(f"{where}.kind must be one of {names}, got {kind!r}", field="force_model.kind", value=kind)
+    cls = ForceModel.lookup(kind)
+    own = [f.name for f in fields(cls)] if dataclasses.is_dataclass(cls) else []
+    known_keys(table, ["kind", *own], f"in {where} of kind {kind!r}",
+               field=next((f"force_model.{k}" for k in table if k not in own), None))
+    return cls(**table) if table else kind
+
+
+def force_model_table(value):
+    """What a scene file writes of a config's force model: its name, or for a model with parameters its
+    ``[force_model]`` table (``kind`` and its fields), which :func:`force_model_field` reads back to an equal model."""
+    if isinstance(value, str):
+        return value
+    return {"kind": value.name, **{f.name: getattr(value, f.name) for f in fields(value)}}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -70,9 +104,10 @@ class SceneConfig(Registered, family="scene"):
         Default time step (s).
     t_end : float
         Default simulated time (s).
-    force_model : str
-        Force model: variational (default), tpbf87, frozen or another registered one (-).
-        See :class:`deformable.ForceModel`.
+    force_model : str or ForceModel
+        Force model: variational (default), tpbf87, frozen or another registered one, by name or as a
+        ``[force_model]`` table, its ``kind`` and the model's own fields (``kind = "koiter"``, E, nu, h) (-).
+        See :class:`deformable.ForceModel` and :func:`force_model_field`.
     alpha : float
         The frozen model's stretching weight, alpha_11 = alpha_22, alpha_12 = 0 (N/m). Given directly
         (section 3.2); a cross weight of r_1 . r_2 would make the membrane energy indefinite. The frozen
@@ -113,7 +148,7 @@ class SceneConfig(Registered, family="scene"):
     scale: float = 1.0
     dt: float = 5e-3
     t_end: float = 2.0
-    force_model: str = "variational"
+    force_model: str | ForceModel = "variational"
     alpha: float = 0.0
     beta: float = 0.0
     rest_metric: tuple = (1.0, 1.0)
@@ -143,8 +178,8 @@ class SceneConfig(Registered, family="scene"):
             value = getattr(self, f.name)
             if f.name == "obstacles":
                 if not isinstance(value, (dict, Obstacle, list, tuple)):
-                    raise InputError(f"scene field obstacles must be [[obstacles]] tables (or obstacles), got {value!r}",
-                                     field="obstacles", value=value)
+                    raise InputError(f"scene field obstacles must be [[obstacles]] tables (or obstacles), got "
+                                     f"{value!r}", field="obstacles", value=value)
                 tables = [value] if isinstance(value, (dict, Obstacle)) else list(value)
                 object.__setattr__(self, f.name, tuple(obstacle_from_table(t, f"scene field obstacles[{k}]")
                                                        for k, t in enumerate(tables)))
@@ -156,9 +191,7 @@ class SceneConfig(Registered, family="scene"):
                 if value is not None:
                     object.__setattr__(self, f.name, Contact.from_table(value, "scene field contact"))
             elif f.name == "force_model":
-                if not isinstance(value, str) or value not in ForceModel.names():
-                    raise InputError(f"scene field force_model must be one of {', '.join(ForceModel.names())}, "
-                                     f"got {value!r}", field="force_model", value=value)
+                object.__setattr__(self, f.name, force_model_field(value))
             elif f.name in ("size", "nodes", "rest_metric", "rest_curvature"):
                 kind = int if f.name == "nodes" else float
                 try:
@@ -255,7 +288,7 @@ class SceneConfig(Registered, family="scene"):
 
     def _weights_given(self) -> bool:
         """The force model takes its weights as alpha and beta, given directly (the frozen model, section 3.2)."""
-        return ForceModel.lookup(self.force_model).weights == ("alpha", "beta")
+        return ForceModel.of(self.force_model).weights == ("alpha", "beta")
 
     def with_obstacles(self, *own: Obstacle) -> dict:
         """:meth:`scene_kwargs` with the scene's own obstacles before the config's extra ones."""

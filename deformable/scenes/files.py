@@ -6,6 +6,12 @@ A scene file names its scene and overrides fields of its config::
     xi = 2e-4
     nodes = [48, 48]
 
+    [force_model]        # the force model: a name (force_model = "variational"), or a table, kind and its fields
+    kind = "koiter"
+    E = 2e5
+    nu = 0.3
+    h = 1e-3
+
     [contact]            # the contact settings (deformable.Contact), over the scene's own
     friction = 0.5
 
@@ -33,7 +39,7 @@ from .. import tomlio
 from ..checks import known_keys
 from ..contact.obstacles import Obstacle
 from ..errors import InputError
-from .config import SceneConfig
+from .config import SceneConfig, force_model_table
 from .registry import SceneSpec
 
 __all__ = ["read_toml", "read_toml_text", "to_toml", "run_table"]
@@ -105,13 +111,15 @@ def to_toml(cfg: SceneConfig, run: dict | None = None) -> str:
     """The resolved config as TOML text that :func:`read_toml` reads back to an equal config (with a named
     fabric, its name and not the mu, eta, xi and shear it sets).
 
-    The contact settings follow as a ``[contact]`` table and the extra obstacles as ``[[obstacles]]`` tables;
+    The force model is its name (a model with parameters a ``[force_model]`` table), the contact settings follow
+    as a ``[contact]`` table and the extra obstacles as ``[[obstacles]]`` tables;
     ``run``: settings that are not scene fields (backend, scheme, package version, ...), written as a
     ``[run]`` table after them (:func:`run_table` reads it back).
     """
     table = {"scene": cfg.scene}
     table.update(cfg.stated({f.name: getattr(cfg, f.name) for f in fields(cfg)
                              if f.name not in ("obstacles", "contact")}))
+    table["force_model"] = force_model_table(cfg.force_model)  # a name, or a model's table with its parameters
     if cfg.contact is not None:
         table["contact"] = cfg.contact.table()
     if cfg.obstacles:
