@@ -21,7 +21,9 @@ importing only the wings below it (docs/design.md, "The map"):
 - :mod:`deformable.scenes`: the catalogue of the paper's scenes (section 5) and
   scene files;
 - :mod:`deformable.io`: the output of runs (an XDMF series for ParaView,
-  frames rendered from it, checkpoints).
+  frames rendered from it, checkpoints);
+- :mod:`deformable.session`: a run as one object, :class:`Simulation` (config,
+  backend by name, output folder; its model, stepper, run, resume, checkpoints).
 
 The backends are ``fdmodel.FDModel`` (finite differences) and
 ``femodel.FEModel`` (finite elements); the validation harness and the command
@@ -87,6 +89,7 @@ from .physics.forces import BodyForce, EdgeLoad, EdgeMoment, Gravity, PointLoad,
 from .physics.material import Material
 from .scene.constraints import Clamp, Pin, Slide, Symmetry, select
 from .scene.scene import Scene
+from .session import Simulation
 from .solve.continuation import equilibrium_path
 from .solve.equilibrium import equilibrium
 
@@ -107,7 +110,7 @@ __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "
     "read_series", "render_series", "render_frame", "CheckpointWriter", "save_checkpoint", "load_checkpoint",
     "RunFolder", "Contact", "clearance", "ContactMesh", "SelfContactMonitor", "HalfSpace", "Sphere", "Box", "Cylinder", "MeshObstacle",
     "LoadBelowRoundOff", "SelfContactIgnored",
-    "UnstableEquilibrium"]
+    "UnstableEquilibrium", "Simulation"]
 
 #: former names: the value a caller gets, and what to use instead (each warns once, DeprecationWarning)
 _FORMER = {"FORCE_MODELS": (lambda: ForceModel.names(), "deformable.ForceModel.names()")}

@@ -5,8 +5,9 @@
 (examples/breezy_flag.toml) and returns the scene's config: a frozen
 dataclass of plain numbers that says every value the run will use;
 ``config.replace(key=value)`` overrides fields after the file (as ``deformable
-run`` applies its options). ``scenes.build(config)`` turns it into a Scene;
-``scenes.to_toml(config)`` is the resolved file, which ``read_toml`` reads
+run`` applies its options). ``deformable.Simulation(config, backend="fd")``
+runs it as ``deformable run`` does (``scenes.build(config)`` alone gives the
+Scene); ``scenes.to_toml(config)`` is the resolved file, which ``read_toml`` reads
 back to an equal config.
 
 The flag: its pole edge pinned, two coils (springs, the paper's section 5)
@@ -31,7 +32,6 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
-from fdmodel import FDModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 FINE = os.environ.get("EXAMPLES_FINE") == "1"
@@ -46,8 +46,10 @@ changed = {f.name: getattr(config, f.name) for f in dataclasses.fields(config)
 print(f"{FILE.name}: scene {config.scene!r}, changed from its defaults: "
       + ", ".join(f"{k} = {v}" for k, v in changed.items()))
 
-model = FDModel(scenes.build(config))
-result = dm.TimeStepper(model, dt=config.dt).run(model.initial_state(), t_end=config.t_end)
+# the run as one object, as ``deformable run`` takes it: the config's grid and step on FD (a Simulation with
+# out="folder" would also write the series, the resolved config and checkpoints)
+sim = dm.Simulation(config, backend="fd", nodes=config.nodes, dt=config.dt)
+model, result = sim.model, sim.run(t_end=config.t_end)
 r = model.grid(result.state.X)
 out_of_plane = np.max(np.abs(r[..., 1]))  # the flag hangs in the x-z plane; y is across it
 print(f"flag: {result.status} ({result.message}); largest excursion across the plane {out_of_plane:.3f} m, "

@@ -29,6 +29,7 @@ FLOORS = (
     ("deformable.dynamics",),
     ("deformable.scenes",),
     ("deformable.io",),
+    ("deformable.session",),
 )
 
 

@@ -12,8 +12,9 @@ def library_examples() -> list[str]:
     return re.findall(r"```python\n(.*?)```", section, re.S)
 
 
-def test_readme_library_examples_run_as_printed_on_both_backends(capsys):
-    fd, fe = library_examples()
+def test_readme_library_examples_run_as_printed_on_both_backends(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    fd, fe, simulation = library_examples()
     assert len([line for line in fd.splitlines() if line.strip()]) <= 9
     namespace = {}
     exec(compile(fd, "README.md (FD)", "exec"), namespace)
@@ -24,6 +25,11 @@ def test_readme_library_examples_run_as_printed_on_both_backends(capsys):
     out = capsys.readouterr().out
     assert "steps to t = 1 s" in out and "Energy(stretching=" in out
     assert type(namespace["model"]).__name__ == "FEModel"
+    assert namespace["s"].G.shape == (2, 2, 2) and namespace["s"].r.shape == (2, 3)
+    exec(compile(simulation, "README.md (Simulation)", "exec"), namespace)
+    out = capsys.readouterr().out
+    assert "Simulation('hanging', backend='fe', nodes=17x17" in out and "steps to t = 0.5 s" in out
+    assert (tmp_path / "runs" / "hanging-fe" / "hanging.toml").is_file()
 
 
 def test_the_output_api_of_the_readme_writes_a_series_into_a_new_folder(tmp_path):

@@ -68,7 +68,7 @@ from deformable.errors import DivergenceError, InputError, StalledError
 from deformable.geometry import check_compatibility
 from deformable.geometry.compatibility import check_rest_state
 
-from .harness.backends import run_model
+from deformable.session import Simulation
 
 __all__ = ["FPS", "MACRO", "MICRO", "READOUT_EVERY", "Frame", "Knob", "Producer", "Readout", "Session", "Window"]
 
@@ -196,10 +196,10 @@ class Session:
 
     def _build(self, config) -> None:
         self.config = config
-        built = run_model(config, self.backend, nodes=config.nodes)  # the grid, model and dt a run takes
-        self.model = built.model
+        sim = Simulation(config, self.backend, nodes=config.nodes)  # the grid, model and dt a run takes
+        self.model = sim.model
         self.rest = rest_verdict(self.model.scene)
-        self.stepper = dm.TimeStepper(self.model, built.config.dt)
+        self.stepper = sim.stepper
         self.stable, self.resolution = self._stable_step(), self._resolution()
         self.X0 = self.model.initial_state()
 
@@ -209,19 +209,19 @@ class Session:
 
         The running stepper takes the new model (:meth:`deformable.TimeStepper.retune`: same stepper, same Newton
         solver, its pattern and analysis kept). Only where the step itself moves with the material (the
-        semi-implicit scheme's stable step, :func:`validation.harness.backends.backend_dt`) is a stepper built
+        semi-implicit scheme's stable step, :func:`deformable.dynamics.dt.within_stable`) is a stepper built
         anew, on the same constraint reference.
         """
         values = self._with_fabric(values)
         config = self.config.replace(**{"nodes": self.config.nodes, **values})  # the running grid (a fabric's own
         # grid, where a scene picks one, is for a new run: the stepper is retuned on the same grid)
-        built = run_model(config, self.backend, nodes=config.nodes)
-        model, dt = built.model, built.config.dt
+        sim = Simulation(config, self.backend, nodes=config.nodes)
+        model, dt = sim.model, sim.config.dt
         if dt == self.stepper.dt:
             self.stepper.retune(model)
         else:
             log.info("deformable view: %s moves the stable step to dt = %g s; a new stepper", values, dt)
-            stepper = dm.TimeStepper(model, dt)
+            stepper = sim.stepper
             stepper.start(self.stepper.reference)  # the constraints' reference positions, as at the start
             self.stepper = stepper
         self.config, self.model = config, model

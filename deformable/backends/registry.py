@@ -6,10 +6,13 @@ A backend package (``fdmodel``, ``femodel``, or one of a user's) subclasses
 otherwise look up by the backend's name: its model class, the unit of its
 grid sizes, its memory per node, its relative cost, its stiffest membrane
 mode and its contact points per cell side. Nothing in the core names a
-backend; importing the package registers it::
+backend: an installed backend declares its descriptor as an entry point of
+the group ``deformable.backends`` (``fd = "fdmodel.backend:FiniteDifferences"``
+in pyproject.toml), which :meth:`Discretisation.lookup` and
+:meth:`Discretisation.names` load on first use; importing a backend's package
+registers it as well (a backend defined in a notebook)::
 
-    import fdmodel                                        # registers the finite differences
-    Discretisation.names()                                # the backends registered so far
+    Discretisation.names()                                # ("fd", "fe", ...): the installed backends
     model = Discretisation.lookup(name).build(scene)      # a model of the backend called name
 
 The model's own class knows its descriptor (``model.descriptor``), so that
@@ -19,6 +22,8 @@ anything (:func:`check_scene`).
 
 from __future__ import annotations
 
+import logging
+from importlib.metadata import entry_points
 from typing import ClassVar
 
 from ..errors import InputError
@@ -26,7 +31,12 @@ from ..limits import check_memory
 from ..registry import Registered
 from ..scene.scene import Scene
 
-__all__ = ["Discretisation", "check_scene"]
+__all__ = ["Discretisation", "check_scene", "GROUP"]
+
+log = logging.getLogger(__name__)
+
+#: the entry-point group an installed backend declares its descriptor in
+GROUP = "deformable.backends"
 
 
 class Discretisation(Registered, family="backend"):
@@ -70,6 +80,32 @@ class Discretisation(Registered, family="backend"):
         super().__init_subclass__(**kwargs)
         if "model" in cls.__dict__:
             cls.model.descriptor = cls
+
+    @classmethod
+    def discover(cls) -> None:
+        """Load the descriptors of the installed backends (entry points of :data:`GROUP`) not yet registered;
+        one that fails to load is left out with a warning naming it."""
+        for point in entry_points(group=GROUP):
+            if point.name in Discretisation._registry:
+                continue
+            try:
+                point.load()
+            except Exception as err:  # noqa: BLE001 - a broken third-party backend must not take the others down
+                log.warning("backend %r (%s) could not be loaded: %s", point.name, point.value, err)
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """The installed backends' names (their entry points loaded), then any registered by an import."""
+        cls.discover()
+        return super().names()
+
+    @classmethod
+    def lookup(cls, name) -> type:
+        """The descriptor of the backend called ``name``, its entry point loaded when it is not yet registered;
+        InputError listing the known names for any other value."""
+        if not (isinstance(name, str) and name in Discretisation._registry):
+            cls.discover()
+        return super().lookup(name)
 
     @classmethod
     def build(cls, scene, **options):

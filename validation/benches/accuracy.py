@@ -96,7 +96,7 @@ import numpy as np
 
 from deformable import scenes
 from deformable.dynamics import TimeStepper
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from . import peers
@@ -244,7 +244,7 @@ def run_ours(nodes: int, dt: float, t_end: float, newton: dict) -> Run:
     ``newton`` for t_end (s), in this process: the model built and one warm-up step taken untimed, then the run
     from rest timed (CPU seconds)."""
     cfg = scene_config("hanging", "fd", nodes)
-    model = make_model(scenes.build(cfg), "fd")
+    model = Simulation(cfg, "fd", nodes=cfg.nodes, dt=dt).model
     warm = TimeStepper(model, dt, newton=newton)
     warm.step(warm.start(model.initial_state()))  # numba's kernels loaded, the model's caches filled
     stepper = TimeStepper(model, dt, newton=newton)

@@ -21,11 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from deformable import scenes
 from deformable.algebra.solvers import SuperLU
-from deformable.dynamics import TimeStepper
 from deformable.solve.potential import flat
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from .measure import in_own_process, one_thread, scene_config
@@ -64,8 +62,8 @@ def fixed_solve(n: int, repeats: int = 5) -> tuple[float, int]:
     at its initial state on FD n x n nodes, and its size; one thread."""
     one_thread()
     cfg = scene_config("curtain", "fd", n)
-    model = make_model(scenes.build(cfg), "fd")
-    stepper = TimeStepper(model, cfg.dt)
+    sim = Simulation(cfg, "fd", nodes=cfg.nodes, dt=cfg.dt)
+    model, stepper = sim.model, sim.stepper
     A = stepper.newton.newton_matrix(flat(model.initial_state()), 1 / cfg.dt**2, 1 / cfg.dt)
     b, lu = np.ones(A.shape[0]), SuperLU()
     best = np.inf

@@ -38,11 +38,10 @@ import numpy as np
 
 from deformable import scenes
 from deformable.algebra.solvers import make_solver
-from deformable.dynamics import TimeStepper
 from deformable.solve.directions import Directions
 from deformable.solve.potential import flat
 from deformable.solve.settings import NewtonReport
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from .measure import grid_label, one_thread, peak_memory, scene_config
@@ -149,8 +148,8 @@ def bench_implicit(backend: str, n: int, t_end: float, solver: str = "auto") -> 
     after one warm-up step, and its floor's parts in rounds over the run (module docstring); one thread."""
     one_thread()
     cfg = free_curtain(scene_config("curtain", backend, n))
-    model = make_model(scenes.build(cfg), backend)
-    stepper = TimeStepper(model, cfg.dt, newton=dict(solver=solver))
+    sim = Simulation(cfg, backend, nodes=cfg.nodes, dt=cfg.dt, stepping=dict(newton=dict(solver=solver)))
+    model, stepper = sim.model, sim.stepper
     state = stepper.step(stepper.start(model.initial_state()))  # warm-up: kernels loaded, patterns and analyses built
     floor = FloorRounds(model, stepper, solver)
     floor.round(state.X)
@@ -168,9 +167,10 @@ def bench_implicit(backend: str, n: int, t_end: float, solver: str = "auto") -> 
     reports = stepper.newton_reports[1:]
     parts = floor.parts()
     # the paper's force on the same scene and grid, at its own stable step
-    paper = make_model(scenes.build(cfg.replace(force_model="tpbf87")), backend)
-    semi = TimeStepper(paper, min(scenes.config("curtain").dt, 0.5 * paper.stable_step()), solver=solver)
-    sstate = semi.step(semi.start(paper.initial_state()))
+    paper = Simulation(cfg.replace(force_model="tpbf87", dt=scenes.config("curtain").dt), backend, nodes=cfg.nodes,
+                       stepping=dict(solver=solver))  # at the curtain's dt, within half the paper's stable step
+    semi = paper.stepper
+    sstate = semi.step(semi.start(paper.X0))
     c1 = time.process_time()
     for _ in range(5):
         sstate = semi.step(sstate)

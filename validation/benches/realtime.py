@@ -67,8 +67,9 @@ def bench_realtime(scene: str, backend: str, grid: str, t_end: float, fps: float
     from validation.viewer import FPS, Session, Window
 
     fps = FPS if fps is None else fps
-    cfg, _, _, _, backend, _, _ = resolve(Namespace(scene=scene, overrides=[], backend=backend, grid=grid,
-                                                    force_model=None, resume=None))
+    sim, *_ = resolve(Namespace(scene=scene, overrides=[], backend=backend, grid=grid,
+                           force_model=None, resume=None))
+    cfg, backend = sim.config, sim.backend
     window = Window(Session(cfg, backend), offscreen=True, fps=fps)
     try:
         window.show()  # the window's opening: its context and shaders, on the initial state (not timed)

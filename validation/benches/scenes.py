@@ -17,9 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from deformable import scenes
-from deformable.dynamics import TimeStepper
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from .measure import grid_label, one_thread as hold_one_thread, peak_memory, scene_config
@@ -55,8 +53,8 @@ def run_scene(scene: str, backend: str, n: int, t_end: float, newton: dict | Non
     ``one_thread``: every thread pool held to one thread for good (:func:`.measure.one_thread`: MKL, OpenBLAS, the
     Hessian's blocks, the IPC Toolkit's TBB threads; before, TBB's were not, and their time counted)."""
     cfg = scene_config(scene, backend, n)
-    model = make_model(scenes.build(cfg), backend)
-    stepper = TimeStepper(model, cfg.dt * dt_factor, newton=newton)
+    sim = Simulation(cfg, backend, nodes=cfg.nodes, dt=cfg.dt * dt_factor, stepping=dict(newton=newton))
+    model, stepper = sim.model, sim.stepper
     if one_thread:  # for good: the rows that ask run in a process of their own
         hold_one_thread()
     t0, c0 = time.perf_counter(), time.process_time()

@@ -20,9 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from deformable import scenes
-from deformable.dynamics import TimeStepper
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from .implicit import free_curtain
@@ -59,8 +57,8 @@ class SelfRow:
 
 def _run(cfg, backend: str, t_end: float):
     """Run a curtain config from its start for t_end s after one warm-up step: (stepper, CPU s per step)."""
-    model = make_model(scenes.build(cfg), backend)
-    stepper = TimeStepper(model, cfg.dt)
+    sim = Simulation(cfg, backend, nodes=cfg.nodes, dt=cfg.dt)
+    model, stepper = sim.model, sim.stepper
     state = stepper.step(stepper.start(model.initial_state()))
     steps, c0 = 0, time.process_time()
     while state.t < t_end - 1e-9 * cfg.dt:

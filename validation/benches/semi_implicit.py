@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from deformable import scenes
 from deformable.algebra.solvers import make_solver
 from deformable.dynamics import TimeStepper
-from validation.harness.backends import make_model
+from deformable.session import Simulation
 from validation.harness.report import markdown_table
 
 from .measure import direct_solve_time, peak_memory
@@ -72,9 +72,9 @@ def hanging_model(backend: str, n: int):
     """The semi-implicit rows' model on an n x n grid, and its step (s)."""
     # the paper's force and weights (xi > 0 so that K's bending stencil carries values; its pattern always has it)
     cfg = scenes.config("hanging", nodes=(n, n), xi=1e-6, shear=0.0, force_model="tpbf87", dt=SEMI_IMPLICIT_DT)
-    model = make_model(scenes.build(cfg), backend)
     # a step that keeps the scene on the stable side of the backend's own stretching bound at every size
-    return model, min(cfg.dt, 0.5 * model.stable_step())
+    sim = Simulation(cfg, backend, nodes=cfg.nodes)
+    return sim.model, sim.config.dt
 
 
 def bench_one(backend: str, n: int, steps: int, solver: str = "auto") -> BenchRow:

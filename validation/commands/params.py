@@ -30,8 +30,9 @@ def configure(parser) -> None:
 
 def execute(args) -> int:
     """``deformable params``: prints the parameters; 0."""
-    cfg, *_, backend, _, model = resolve(Namespace(scene=args.scene, overrides=args.overrides, backend=args.backend,
-                                                    grid=args.grid, force_model=args.force_model, resume=None))
+    sim, *_ = resolve(Namespace(scene=args.scene, overrides=args.overrides, backend=args.backend,
+                           grid=args.grid, force_model=args.force_model, resume=None))
+    cfg, backend, model = sim.config, sim.backend, sim.model
     if getattr(args, "show_config", False):
         return print_config(cfg)
     print("\n".join(parameters(cfg, model, backend).lines()))

@@ -80,7 +80,7 @@ from deformable.checks import count, known_keys
 from deformable.errors import InputError, ResourceError
 from validation.harness.report import writable_folder
 from validation.harness.runner import Runner, counted, duration
-from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, write_outputs
+from validation.harness.sweep import MAX_CASES, MEASURES, STATUSES, Sweep, plain, write_outputs
 
 from .run import check_backend, option_fields, parse_grid, run_options, scene_config, scene_source, sets_grid
 from .validate import check_jobs, executor_options
@@ -250,7 +250,7 @@ def parse_sweep(base, items, backends: str = "fd", measures: str | None = None, 
 # -- the command -----------------------------------------------------------------------
 def _numbers(record: dict) -> str:
     """Everything a case computed, wall time aside, as text (to compare runs bit for bit)."""
-    return json.dumps({k: v for k, v in record.items() if k != "wall"}, sort_keys=True)
+    return json.dumps({k: v for k, v in record.items() if k != "wall"}, sort_keys=True, default=plain)
 
 
 def _case_time(records) -> float:

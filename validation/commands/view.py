@@ -43,8 +43,9 @@ def execute(args) -> int:
     if args.offscreen and frames is None:
         raise InputError("--offscreen needs --frames N (how many frames to run without a window)", field="--frames",
                          value=None)
-    cfg, *_, backend, _, _ = resolve(Namespace(scene=args.scene, overrides=args.overrides, backend=args.backend,
-                                               grid=args.grid, force_model=None, resume=None))
+    sim, *_ = resolve(Namespace(scene=args.scene, overrides=args.overrides, backend=args.backend,
+                           grid=args.grid, force_model=None, resume=None))
+    cfg, backend = sim.config, sim.backend
     window = Window(Session(cfg, backend), offscreen=args.offscreen, fps=fps, gif=args.gif)
     wall = window.run(frames, screenshot=args.screenshot)
     session = window.session

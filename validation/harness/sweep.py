@@ -9,15 +9,15 @@ every axis) when it is made, before any is built: a product above
 cases used to build them until memory ran out).
 Every combination is a :class:`SweepCase`, run by :func:`run_case`: the grid,
 scene and model of the config on its backend by
-:func:`~validation.harness.backends.run_model` (the path ``deformable run``
+:class:`deformable.Simulation` (the path ``deformable run``
 takes), and :class:`deformable.TimeStepper` from the initial state to the
 config's t_end (eq. (22)-(27) for the tpbf87 and frozen force models, implicit
 Euler for the variational one), at the config's dt, or on a backend whose
 stretching bound is tighter at half that bound
-(:func:`~validation.harness.backends.backend_dt`) unless dt was given. A grid
+(:func:`deformable.dynamics.dt.within_stable`) unless dt was given. A grid
 not set (no ``nodes`` axis, no ``nodes`` in the scene file) is the scene's,
 written in FD's nodes, taken in the backend's unit
-(:func:`~validation.harness.backends.run_grid`: FE half as many elements a
+(:meth:`deformable.backends.Discretisation.scene_nodes`: FE half as many elements a
 side), as ``deformable run`` takes it; a case's fields hold the grid it runs.
 
 Each case gives one row: its status (``finished``, ``diverged`` when the
@@ -64,17 +64,20 @@ from pathlib import Path
 
 import numpy as np
 
-import deformable as dm
 from deformable import checks, scenes
 from deformable.dynamics.trackers import DivergenceGuard, Tracker
 from deformable.errors import InputError, ResourceError
+from deformable.physics.force_models import ForceModel
+from deformable.scenes.config import force_model_table
 
-from .backends import descriptor, run_grid, run_model
+from deformable.session import Simulation
+
+from .backends import descriptor
 from .report import csv_text, markdown_table
 from .runner import counted
 from .study import Table
 
-__all__ = ["FINAL", "MAX_CASES", "MEASURES", "STATUSES", "Extremes", "Sweep", "SweepCase", "load_records",
+__all__ = ["FINAL", "plain", "MAX_CASES", "MEASURES", "STATUSES", "Extremes", "Sweep", "SweepCase", "load_records",
            "map_png", "run_case", "save_record", "write_outputs"]
 
 log = logging.getLogger(__name__)
@@ -157,7 +160,8 @@ class SweepCase:
     @property
     def key(self) -> str:
         """A digest of what determines the run (not the measures): the name of its stored result."""
-        text = json.dumps([self.scene, [[k, v] for k, v in self.fields], self.backend, self.dt_given])
+        text = json.dumps([self.scene, [[k, v] for k, v in self.fields], self.backend, self.dt_given],
+                          default=plain)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
     @property
@@ -168,6 +172,15 @@ class SweepCase:
             return f["t_end"] / f["dt"] * f["nodes"][0] * f["nodes"][1] * descriptor(self.backend).cost
         except (KeyError, TypeError, ZeroDivisionError, IndexError, InputError):
             return 0.0
+
+
+def plain(value):
+    """A field's value that JSON does not hold, as the scene file writes it (for a case's key): the table of the
+    contact settings, an obstacle or a force model with parameters; anything else its repr."""
+    if isinstance(value, ForceModel):
+        return force_model_table(value)
+    table = getattr(value, "table", None)
+    return table() if callable(table) else repr(value)
 
 
 @contextmanager
@@ -194,13 +207,11 @@ def run_case(case: SweepCase) -> dict:
     record = {"key": case.key, "scene": case.scene, "backend": case.backend, "fields": dict(case.fields)}
     try:
         cfg = scenes.config(case.scene, **dict(case.fields))
-        cfg, _, model = run_model(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt if case.dt_given else None)
-        dt = cfg.dt
-        stepper = dm.TimeStepper(model, dt)
-        X0 = model.initial_state()
+        sim = Simulation(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt if case.dt_given else None)
+        model, dt, X0 = sim.model, sim.config.dt, sim.X0
         extremes = Extremes()
         with _divergence_expected():
-            result = stepper.run(X0, t_end=cfg.t_end, trackers=[extremes])
+            result = sim.run(t_end=cfg.t_end, trackers=[extremes])
         state = result.state
         energy = model.energy(state.X)
         record.update(status=result.status, message=result.message, t=float(state.t), steps=int(result.steps),
@@ -230,7 +241,7 @@ class Sweep:
     measures : names of :data:`MEASURES`
     max_cases : the most cases allowed; more raise ResourceError (one line naming the count) on construction
     grid_set : the base's grid was set (a scene file's ``nodes``): every backend takes it as is, as a ``nodes``
-    axis is; otherwise each backend takes the scene's grid in its own unit (:func:`run_grid`)
+    axis is; otherwise each backend takes the scene's grid in its own unit (:meth:`deformable.backends.Discretisation.scene_nodes`)
     """
 
     base: scenes.SceneConfig
@@ -273,13 +284,13 @@ class Sweep:
 
     def cases(self) -> list[SweepCase]:
         """Every combination, backends first, then the axes in order (the last one fastest); each case's
-        ``nodes`` the grid its backend runs (:func:`run_grid`)."""
+        ``nodes`` the grid its backend runs (:meth:`deformable.backends.Discretisation.scene_nodes`)."""
         base = {f.name: getattr(self.base, f.name) for f in fields(self.base) if f.name != "scene"}
         dt_given = "dt" in dict(self.axes)
         grid_set = self.grid_set or "nodes" in dict(self.axes)
         out = []
         for backend in self.backends:
-            own = base if grid_set else dict(base, nodes=run_grid(self.base.nodes, backend))
+            own = base if grid_set else dict(base, nodes=descriptor(backend).scene_nodes(self.base.nodes))
             for combo in itertools.product(*(v for _, v in self.axes)):
                 merged = self.base.stated(dict(own, **dict(zip((k for k, _ in self.axes), combo))))
                 out.append(SweepCase(self.base.scene, tuple(sorted(merged.items())), backend, self.measures,
@@ -352,7 +363,7 @@ def save_record(out, record: dict) -> Path:
     """Store one case's record as ``out/cases/<key>.json`` (atomically)."""
     path = Path(out) / "cases" / f"{record['key']}.json"
     path.parent.mkdir(parents=True, exist_ok=True)
-    _atomic_write(path, json.dumps(record, indent=1, sort_keys=True) + "\n")
+    _atomic_write(path, json.dumps(record, indent=1, sort_keys=True, default=plain) + "\n")
     return path
 
 

@@ -1,5 +1,5 @@
 """One path from a scene config to a run (issue 46): ``deformable run`` and ``deformable sweep`` take the same grid,
-model and dt for the same scene and backend (:func:`validation.harness.backends.run_model`), and read a grid the
+model and dt for the same scene and backend (:class:`deformable.Simulation`), and read a grid the
 same way (:func:`validation.commands.run.parse_grid`: ``nodes=12x12``, ``[12, 12]``, ``12``).
 
 The runs are the hanging scene on its own grid (FD 32 x 32 nodes; FE 16 x 16 elements, 17 x 17 nodes) for three

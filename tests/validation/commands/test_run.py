@@ -9,7 +9,7 @@ import pytest
 from deformable import scenes
 from deformable.io import load_checkpoint
 from validation.commands import build_parser, main
-from validation.commands.run import prepare, simulate
+from validation.commands.run import prepare
 from validation.harness.backends import make_model
 
 from ...conftest import assert_same_series, series_frames
@@ -96,10 +96,11 @@ def test_a_diverging_run_stops_keeps_its_frames_and_checkpoints_the_last_good_st
 def test_the_run_api_reports_divergence_with_the_last_good_state(tmp_path):
     args = build_parser().parse_args(["run", "hanging", "--force-model", "tpbf87", "--grid", "12x12", "--dt", "0.02",
                                       "--steps", "200", "--out", str(tmp_path)])
-    result, writer, energy, written = simulate(prepare(args))
+    sim = prepare(args)
+    result = sim.run()
     assert result.status == "diverged" and np.all(np.isfinite(result.state.X))
-    assert written[-1].name == "hanging-diverged.npz" and writer.frames >= 1
-    assert energy.history[-1, 0] <= result.state.t
+    assert sim.checkpoints[-1].name == "hanging-diverged.npz" and sim.series.frames >= 1
+    assert sim.energy.history[-1, 0] <= result.state.t
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,7 @@ import scipy.linalg as sla
 import deformable as dm
 from deformable import scenes
 from deformable.algebra.solvers import one_blas_thread
-from deformable.dynamics.stepper import round_down
+from deformable.dynamics.dt import within_stable
 from validation.harness.backends import make_model
 from validation.harness.surfaces import cylinder
 
@@ -169,9 +169,8 @@ def _run_scene(case: Case) -> dict:
     cfg = paper_config(case.scene, nodes=(case.nodes, case.nodes), **fields)
     if case.dt:
         cfg = cfg.replace(dt=case.dt)
-    model = make_model(scenes.build(cfg), case.backend)
-    stepper = dm.TimeStepper(model, cfg.dt)
-    X0 = model.initial_state()
+    sim = dm.Simulation(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt)
+    model, stepper, X0 = sim.model, sim.stepper, sim.X0
     rec = dict(G=1.0, B=0.0, Bneg=[0.0, 0.0], snaps=[model.grid(X0)], renders={})
     pending = sorted(case.times)
 
@@ -219,7 +218,7 @@ def scene_grids(s: dict, scene: str) -> tuple:
 def shipped_dt(cfg, model) -> float:
     """The step of a shipped scene: its own, or half the backend's stretching bound under the paper's force (as
     ``deformable run`` takes it)."""
-    return min(cfg.dt, round_down(0.5 * model.stable_step()))  # no bound (inf) where alpha is not lagged
+    return within_stable(model, cfg.dt)  # no bound (inf) where alpha is not lagged
 
 
 def _compatibility(model, G, B) -> tuple[float, float, float]:
@@ -254,9 +253,8 @@ def _run_shipped(case: Case) -> dict:
     picture; with ``case.every`` > 0: a frame for the animation every ``case.every`` steps.
     """
     cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **dict(case.fields))
-    model = make_model(scenes.build(cfg), case.backend)
-    dt = shipped_dt(cfg, model)
-    stepper = dm.TimeStepper(model, dt)
+    sim = dm.Simulation(cfg, case.backend, nodes=cfg.nodes)  # the step deformable run takes
+    model, dt, stepper = sim.model, sim.config.dt, sim.stepper
     L1, L2 = cfg.size
     a1 = np.linspace(0.0, L1, SAMPLES * (case.nodes - 1) + 1)
     heights = np.array(ROWS if case.scene in FOLD_SCENES else (0.5,)) * L2
@@ -424,23 +422,18 @@ def spectrum(backend: str, size: tuple, nodes: int) -> dict:
     return dict(lambda_m=lm, lambda_b=lb, h=min(L1, L2) / (nodes - 1))
 
 
+#: how a case of each kind runs
+RUNS = {"run": _run_scene, "hanging": _run_hanging, "frozen": _run_frozen,
+        "spectrum": lambda case: spectrum(case.backend, paper_config(case.scene).size, case.nodes),
+        "scene": _run_shipped, "damping": lambda case: damping.run_mode(case.backend, case.nodes, *case.tag.split("|"))}
+
+
 def run_case(case: Case) -> dict:
     """Run one case (module level, so a process pool can map it)."""
     t0 = time.perf_counter()
-    if case.kind == "run":
-        out = _run_scene(case)
-    elif case.kind == "hanging":
-        out = _run_hanging(case)
-    elif case.kind == "frozen":
-        out = _run_frozen(case)
-    elif case.kind == "spectrum":
-        out = spectrum(case.backend, paper_config(case.scene).size, case.nodes)
-    elif case.kind == "scene":
-        out = _run_shipped(case)
-    elif case.kind == "damping":
-        out = damping.run_mode(case.backend, case.nodes, *case.tag.split("|"))
-    else:
+    if case.kind not in RUNS:
         raise ValueError(f"unknown case kind {case.kind!r}")
+    out = RUNS[case.kind](case)
     out["wall"] = time.perf_counter() - t0
     return out
 

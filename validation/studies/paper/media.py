@@ -139,14 +139,13 @@ def contact_run(scene: str, nodes: tuple[int, int], frames: int = FRAMES) -> dic
     from 0 to t_end, with its ``obstacles`` and ``cell`` (m, the longest cell diagonal at the start) for the
     pictures."""
     import deformable as dm
-    from validation.harness.backends import backend_dt, make_model
 
     from .cases import render_points
 
     t0 = time.perf_counter()
     cfg = scenes.config(scene, nodes=tuple(nodes))
-    model = make_model(scenes.build(cfg), "fd")
-    stepper = dm.TimeStepper(model, backend_dt(model, cfg.dt))
+    sim = dm.Simulation(cfg, "fd", nodes=cfg.nodes)
+    model = sim.model
     pending = list(np.linspace(0.0, cfg.t_end, frames + 1))
     rec = []
 
@@ -161,7 +160,7 @@ def contact_run(scene: str, nodes: tuple[int, int], frames: int = FRAMES) -> dic
     cell = float(max(np.linalg.norm(grid[1:, 1:] - grid[:-1, :-1], axis=-1).max(),
                      np.linalg.norm(grid[1:, :-1] - grid[:-1, 1:], axis=-1).max()))
     watch(dm.State(t=0.0, X=X0, V=np.zeros_like(X0)))
-    result = stepper.run(X0, t_end=cfg.t_end, trackers=[dm.Callback(watch)])
+    result = sim.run(t_end=cfg.t_end, trackers=[dm.Callback(watch)])
     if rec and result.state.t > rec[-1][0] + 1e-9 and result.status == "finished":
         rec.append((result.state.t, render_points(model, result.state.X, refine=2 if min(nodes) < 40 else 1)))
     return dict(status=result.status, t=result.state.t, steps=result.steps, frames=rec,
