@@ -139,6 +139,39 @@ def test_no_file_in_the_core_is_over_500_lines():
     assert long == {}
 
 
+def test_the_command_line_s_run_is_argument_handling_at_most_300_lines():
+    """The run itself is :class:`deformable.Simulation`'s; ``deformable run`` keeps its arguments and its lines."""
+    assert len(modules()["validation.commands.run"].read_text().splitlines()) <= 300
+
+
+def test_no_function_of_the_harness_is_over_80_lines():
+    """A study is a set of small experiment objects, not a branch per case kind inside one long function."""
+    long = [f"{name}.{node.name}: {node.end_lineno - node.lineno + 1}" for name, tree in trees().items()
+            if name.startswith("validation") for node in ast.walk(tree)
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.end_lineno - node.lineno >= 80]
+    assert long == []
+
+
+def _builds_a_model_by_hand(tree) -> int:
+    """Calls that turn a scene config into a model by hand: ``make_model(scenes.build(...), ...)`` or a model class
+    called on ``scenes.build(...)``, the chain :class:`deformable.Simulation` holds once."""
+    def built(node):
+        return (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "build"
+                and isinstance(node.func.value, ast.Name) and node.func.value.id == "scenes")
+
+    def model(func):
+        name = func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else ""
+        return name == "make_model" or name.endswith("Model")
+
+    return sum(1 for node in ast.walk(tree) if isinstance(node, ast.Call) and model(node.func) and node.args
+               and built(node.args[0]))
+
+
+def test_a_config_becomes_a_model_in_one_place():
+    found = {name: n for name, tree in trees().items() if (n := _builds_a_model_by_hand(tree))}
+    assert found == {}
+
+
 def _literals(tree) -> list[str]:
     return [n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)]
 

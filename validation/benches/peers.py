@@ -104,6 +104,7 @@ rate of nan.
 """
 
 import contextlib
+import dataclasses
 import functools
 import io
 import math
@@ -286,12 +287,9 @@ def run_peer(solver: str, nodes: int = 64, frame_dt: float = 1.0 / FPS, substeps
     """
     frames = math.ceil(t_end / frame_dt - 1e-9)
     linear = linear_iterations if solver == "style3d" else 0
-
-    def run(status, cpu=math.nan, wall=math.nan, compile_s=math.nan, q=None):
-        return PeerRun(solver, frame_dt, substeps, iterations, linear, frames, cpu, wall, compile_s, q, status)
-
+    planned = PeerRun(solver, frame_dt, substeps, iterations, linear, frames, math.nan, math.nan, math.nan, None, "")
     if _missing():
-        return run(MISSING)
+        return dataclasses.replace(planned, status=MISSING)
     import warp as wp
 
     cfg = scenes.config("hanging", nodes=(nodes, nodes))
@@ -299,49 +297,57 @@ def run_peer(solver: str, nodes: int = 64, frame_dt: float = 1.0 / FPS, substeps
     wp.config.log_level = wp.LOG_WARNING
     try:
         with wp.ScopedDevice("cpu"), contextlib.redirect_stdout(io.StringIO()):
-            c0 = time.process_time()
-            model, sim = _build(solver, nodes, cfg, iterations, linear)
-            s0, s1 = model.state(), model.state()
-            kernel, c = _damping_kernel(), cfg.gamma / cfg.mu
-            h = frame_dt / substeps
-
-            def frame():
-                nonlocal s0, s1
-                for _ in range(substeps):
-                    wp.launch(kernel, dim=model.particle_count, inputs=[s0.particle_qd, model.particle_mass, c],
-                              outputs=[s0.particle_f])
-                    sim.step(s0, s1, None, None, h)
-                    s0, s1 = s1, s0
-
-            frame()
-            # a graph replays whole frames and must leave the states where it found them: an even number of
-            # substeps (the states swap at each), so one frame, or two of an odd number of substeps
-            block = 1 if substeps % 2 == 0 else 2
-            graph = None
-            if solver == "vbd":
-                with wp.ScopedCapture() as capture:
-                    for _ in range(block):
-                        frame()
-                graph = capture.graph
-            wp.synchronize()
-            compile_s = time.process_time() - c0
-            for s in (s0, s1):
-                s.particle_q.assign(model.particle_q)
-                s.particle_qd.assign(model.particle_qd)
-            w0, c0 = time.perf_counter(), time.process_time()
-            replays, rest = divmod(frames, block) if graph is not None else (0, frames)
-            for _ in range(replays):
-                wp.capture_launch(graph)
-            for _ in range(rest):
-                frame()
-            wp.synchronize()
-            cpu, wall = time.process_time() - c0, time.perf_counter() - w0
-            q = s0.particle_q.numpy().astype(float)
+            measured = _measure(planned, nodes, cfg)
     except Exception as e:  # noqa: BLE001 - a failing peer is a row, not a failed bench
-        return run(f"failed: {type(e).__name__}: {' '.join(str(e).split())[:160]}")
+        return dataclasses.replace(planned, status=f"failed: {type(e).__name__}: {' '.join(str(e).split())[:160]}")
     finally:
         wp.config.log_level = log_level
-    return run("ran", cpu, wall, compile_s, q)
+    return dataclasses.replace(planned, status="ran", **measured)
+
+
+def _measure(run: PeerRun, nodes: int, cfg) -> dict:
+    """The timed part of :func:`run_peer` on Warp's current device: build, warm up (VBD: capture a graph), then
+    ``run.frames`` frames from the initial state again; its cpu, wall, compile_s (s) and final positions q (m)."""
+    import warp as wp
+
+    c0 = time.process_time()
+    model, sim = _build(run.solver, nodes, cfg, run.iterations, run.linear_iterations)
+    s0, s1 = model.state(), model.state()
+    kernel, c = _damping_kernel(), cfg.gamma / cfg.mu
+    h = run.frame_dt / run.substeps
+
+    def frame():
+        nonlocal s0, s1
+        for _ in range(run.substeps):
+            wp.launch(kernel, dim=model.particle_count, inputs=[s0.particle_qd, model.particle_mass, c],
+                      outputs=[s0.particle_f])
+            sim.step(s0, s1, None, None, h)
+            s0, s1 = s1, s0
+
+    frame()
+    # a graph replays whole frames and must leave the states where it found them: an even number of
+    # substeps (the states swap at each), so one frame, or two of an odd number of substeps
+    block = 1 if run.substeps % 2 == 0 else 2
+    graph = None
+    if run.solver == "vbd":
+        with wp.ScopedCapture() as capture:
+            for _ in range(block):
+                frame()
+        graph = capture.graph
+    wp.synchronize()
+    compile_s = time.process_time() - c0
+    for s in (s0, s1):
+        s.particle_q.assign(model.particle_q)
+        s.particle_qd.assign(model.particle_qd)
+    w0, c0 = time.perf_counter(), time.process_time()
+    replays, rest = divmod(run.frames, block) if graph is not None else (0, run.frames)
+    for _ in range(replays):
+        wp.capture_launch(graph)
+    for _ in range(rest):
+        frame()
+    wp.synchronize()
+    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    return {"cpu": cpu, "wall": wall, "compile_s": compile_s, "q": s0.particle_q.numpy().astype(float)}
 
 
 def bench_peer(solver: str, nodes: int = 64, t_end: float = 2.0) -> PeerRow:

@@ -37,7 +37,19 @@ __all__ = ["configure", "execute"]
 
 
 def configure(parser) -> None:
-    """Arguments of ``deformable bench``."""
+    """Arguments of ``deformable bench``, table by table."""
+    _table_arguments(parser)
+    _bar_and_scene_arguments(parser)
+    _rate_arguments(parser)
+    _realtime_arguments(parser)
+    parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
+    parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
+                        "bench_self.csv, bench_bar.csv, bench_scenes.csv, bench_rates.csv, bench_peers.csv, "
+                        "bench_accuracy.csv, bench_accuracy_levels.csv and bench_realtime.csv (default: reports/bench)")
+
+
+def _table_arguments(parser) -> None:
+    """The semi-implicit, implicit, contact and self-contact rows' arguments (and --backend)."""
     parser.add_argument("--backend", default="fd", help="fd, fe or all (default: fd)")
     parser.add_argument("--sizes", default="32,64,128,256", help="semi-implicit rows: grid sizes n, n x n nodes "
                         "(default: 32,64,128,256)")
@@ -68,6 +80,10 @@ def configure(parser) -> None:
                         help="self-contact rows, FE: elements a side (default: none)")
     parser.add_argument("--self-time", default="2", metavar="T",
                         help="self-contact rows: seconds of the curtain's motion (default: 2, its whole run)")
+
+
+def _bar_and_scene_arguments(parser) -> None:
+    """The curtain bar's and the scene rows' arguments."""
     parser.add_argument("--bar", action="store_true",
                         help="the curtain bar: the shipped curtain on --bar-grid nodes for --bar-time s in "
                         "fixed-matrix SuperLU factor+solves per simulated second, with its Newton error against dt vs "
@@ -83,6 +99,10 @@ def configure(parser) -> None:
                         help="scene rows, FE: elements a side (default with --backend fe or all: 32); '' for none")
     parser.add_argument("--scene-time", default="2", metavar="T",
                         help="scene rows: seconds of motion (default: 2)")
+
+
+def _rate_arguments(parser) -> None:
+    """The rate rows' and the peer rows' arguments."""
     parser.add_argument("--rates", action="store_true",
                         help="rate rows: simulated s per CPU s (one thread) of --rates-scenes for --rates-time s under "
                         "the defaults and under ce6e554's Newton settings, with the Newton error of each against a "
@@ -108,6 +128,10 @@ def configure(parser) -> None:
                         "nodes, and the three at matched accuracy over 0.1 s (dt 1/60 and 1/600 s, each swept against "
                         "its own most converged run: bench_accuracy.md, .csv, _levels.csv, .png; about 40 minutes) "
                         "(default: off)")
+
+
+def _realtime_arguments(parser) -> None:
+    """The real-time rows' arguments."""
     parser.add_argument("--realtime", default=None, metavar="SCENE",
                         help="the real-time rows alone (none of the tables above): a shipped scene stepped, its "
                         "readout taken and rendered off screen as `deformable view --offscreen` does, at 30 frames a "
@@ -117,10 +141,6 @@ def configure(parser) -> None:
                         help="real-time rows: the node grid, as deformable view's (default: 20x20)")
     parser.add_argument("--t-end", default="2", metavar="T",
                         help="real-time rows: seconds of motion (default: 2)")
-    parser.add_argument("--solver", default="auto", help="linear solver: auto, superlu or pardiso (default: auto)")
-    parser.add_argument("--out", default=None, help="folder for bench.csv, bench_implicit.csv, bench_contact.csv, "
-                        "bench_self.csv, bench_bar.csv, bench_scenes.csv, bench_rates.csv, bench_peers.csv, "
-                        "bench_accuracy.csv, bench_accuracy_levels.csv and bench_realtime.csv (default: reports/bench)")
 
 
 def _sizes(text, flag: str, allow_empty: bool = False) -> list[int]:

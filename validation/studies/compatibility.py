@@ -56,23 +56,38 @@ class Case:
     nodes: int
 
 
+def _exact_fields(s, n: int) -> tuple:
+    """G and B of the surface ``s`` itself at the nodes of an n x n grid."""
+    a = np.linspace(0.0, 1.0, n)
+    a1, a2 = np.meshgrid(a * s.size[0], a * s.size[1], indexing="ij")
+    return s.G(a1, a2), s.B(a1, a2)
+
+
+def _fd_fields(s, n: int) -> tuple:
+    """The FD model's G and B of the sheet at rest on ``s``: at the nodes already (eq. 18-19)."""
+    model = make_model(dm.Scene(dm.Sheet(size=s.size, nodes=(n, n), rest=s), dm.Material(eta=1.0, xi=1.0)), "fd")
+    return model.tensors(model.initial_state())
+
+
+def _fe_fields(s, n: int) -> tuple:
+    """The FE model's G and B of the sheet at rest on ``s``, sampled at the nodes."""
+    sheet = dm.Sheet(size=s.size, nodes=(n, n), rest=s)
+    model = make_model(dm.Scene(sheet, dm.Material(eta=1.0, xi=1.0)), "fe")
+    a1, a2 = sheet.coordinates()
+    smp = model.sample(model.initial_state(), np.stack([a1.ravel(), a2.ravel()], axis=1))
+    return np.moveaxis(smp.G, 0, -1).reshape(2, 2, n, n), np.moveaxis(smp.B, 0, -1).reshape(2, 2, n, n)
+
+
+#: source of a case's fields -> the function giving its (G, B) on n x n nodes
+FIELDS = {"exact": _exact_fields, "fd": _fd_fields, "fe": _fe_fields}
+#: the order of each source's residuals in theory (module docstring)
+THEORY = {"exact": 2, "fd": 1, "fe": 2}
+
+
 def run_case(case: Case) -> dict:
     s = sf.get(case.surface)
     n = case.nodes
-    if case.source == "exact":
-        a = np.linspace(0.0, 1.0, n)
-        a1, a2 = np.meshgrid(a * s.size[0], a * s.size[1], indexing="ij")
-        G, B = s.G(a1, a2), s.B(a1, a2)
-    else:
-        sheet = dm.Sheet(size=s.size, nodes=(n, n), rest=s)
-        model = make_model(dm.Scene(sheet, dm.Material(eta=1.0, xi=1.0)), case.source)
-        if case.source == "fd":  # the FD tensors are at the nodes already (eq. 18-19)
-            G, B = model.tensors(model.initial_state())
-        else:
-            a1, a2 = sheet.coordinates()
-            smp = model.sample(model.initial_state(), np.stack([a1.ravel(), a2.ravel()], axis=1))
-            G = np.moveaxis(smp.G, 0, -1).reshape(2, 2, n, n)
-            B = np.moveaxis(smp.B, 0, -1).reshape(2, 2, n, n)
+    G, B = FIELDS[case.source](s, n)
     h = (s.size[0] / (n - 1), s.size[1] / (n - 1))
     c = check_compatibility(G, B, h, margin=MARGIN)
     return {"h": h[0], "gauss": c.gauss, "codazzi": max(c.codazzi), "mismatch": c.mismatch_relative,
@@ -96,6 +111,72 @@ def _zero(e) -> bool:
     return bool(np.max(e) < 1e-9)
 
 
+def _report_residuals(res, src: str, name: str, these: list) -> tuple[list, list]:
+    """One source's fields of one surface under refinement: each residual's order checked against the theory's (a
+    structural exception a finding, a residual at round-off neither); (table rows, the Gauss residual's lines)."""
+    h = np.array([r["h"] for r in these])
+    rows, lines = [], []
+    for q in ("gauss", "codazzi", "mismatch"):
+        e = np.array([r[q] for r in these])
+        if _zero(e):
+            p, verdict = np.nan, "round-off"
+        else:
+            p = fit_order(h, e)
+            verdict = "checked" if q != "mismatch" else "reported"
+            why = SPECIAL.get((src, name, q))
+            if why:
+                verdict = "finding"
+                res.findings.append(f"{src} fields, {name}: {q} residual at observed order {p:.2f} "
+                                    f"(generic theory {THEORY[src]}): {why}.")
+            elif q != "mismatch":
+                order_check(res, f"{src} fields, {name}: {q} residual", p, THEORY[src])
+        rows.append((src, name, q, *e, p, THEORY[src], verdict))
+        if not _zero(e) and q == "gauss":
+            lines.append(Line(f"{name}" if src == "exact" else f"{src.upper()} {name}", h, e))
+    return rows, lines
+
+
+def _report_paper_test(res, name: str, last: dict, nodes: int) -> list:
+    """The paper's test on the exact fields of ``name`` at the finest grid: checked; its comparison rows."""
+    res.check(f"exact fields, {name}: flagged compatible at {nodes} points a side",
+              "the paper's test: |ratio - 1| <= 0.05 and cosine >= 0.95 where both vectors are "
+              "resolved, residual <= 0.05 where one vanishes", last["summary"], last["compatible"])
+    return [(name, nodes, *cells) for cells in _comparison_cells(last)]
+
+
+def _warnings(made) -> int:
+    """How many of the caught warnings ``made`` are IncompatibleRestState."""
+    return sum(issubclass(w.category, IncompatibleRestState) for w in made)
+
+
+def _report_rest_states(res) -> list:
+    """The incompatible rest state G0 = I, B0 = 0.5 I flagged (and warned of), a compatible one passed; the
+    comparison rows of the incompatible one."""
+    with warnings.catch_warnings(record=True) as made:
+        warnings.simplefilter("always")
+        bad = dm.Scene(dm.Sheet(nodes=(17, 17)), dm.Material(eta=1.0, xi=1.0), rest_metric=1.0,
+                       rest_curvature=0.5, name="incompatible")
+    res.check("Scene(...) with that rest state warns when it is made", "one IncompatibleRestState warning",
+              f"{_warnings(made)} warning(s)", _warnings(made) == 1)
+    c = check_rest_state(bad)
+    res.check("rest state G0 = I, B0 = 0.5 I: flagged incompatible", "compatible = False",
+              f"compatible = {c.compatible}; {c.summary()}", not c.compatible)
+    res.check("rest state G0 = I, B0 = 0.5 I: Gauss residual", "0.25 (K from G = 0, det B0 / det G0 = 0.25)",
+              f"{c.gauss:.15g}", abs(c.gauss - 0.25) < 1e-12)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        warn_if_incompatible(bad)
+    res.check("warn_if_incompatible warns on that scene", "one IncompatibleRestState warning",
+              f"{_warnings(caught)} warning(s)", _warnings(caught) == 1)
+    good = check_rest_state(dm.Scene(dm.Sheet(rest=sf.get("monge")), dm.Material(eta=1.0, xi=1.0)))
+    res.check("rest state of a sheet whose rest shape is the Monge patch: compatible", "compatible = True",
+              good.summary(), good.compatible)
+    res.data["incompatible_rest_state"] = {"gauss": c.gauss, "codazzi": c.codazzi, "mismatch": c.mismatch_relative,
+                                           "comparisons": {k: dataclasses.asdict(v) for k, v in c.comparisons.items()}}
+    return [("G0 = I, B0 = 0.5 I (a scene's rest state)", max(bad.sheet.nodes[0], 33), *cells)
+            for cells in _comparison_cells(res.data["incompatible_rest_state"])]
+
+
 def fill(res, levels: int, runner, surfaces=None) -> None:
     """Run the compatibility study over ``levels`` grids (17, 33, 65, ... points a side)."""
     names = list(surfaces or sf.SURFACES)
@@ -108,62 +189,16 @@ def fill(res, levels: int, runner, surfaces=None) -> None:
         "nodes": nodes, "surfaces": names, "discrete_surface": disc, "margin": MARGIN, "rtol": 0.05,
         "guard": 0.05, "order_window": "theory -0.3/+0.3"})
     rows, lines, comparisons = [], {"exact": [], "disc": []}, []
-    theory = {"exact": 2, "fd": 1, "fe": 2}
     for src, names_ in (("exact", names), ("fd", [disc]), ("fe", [disc])):
         for name in names_:
             these = [r for c, r in zip(cases, raw) if c.source == src and c.surface == name]
-            h = np.array([r["h"] for r in these])
-            for q in ("gauss", "codazzi", "mismatch"):
-                e = np.array([r[q] for r in these])
-                if _zero(e):
-                    p, verdict = np.nan, "round-off"
-                else:
-                    p = fit_order(h, e)
-                    verdict = "checked" if q != "mismatch" else "reported"
-                    why = SPECIAL.get((src, name, q))
-                    if why:
-                        verdict = "finding"
-                        res.findings.append(f"{src} fields, {name}: {q} residual at observed order {p:.2f} "
-                                            f"(generic theory {theory[src]}): {why}.")
-                    elif q != "mismatch":
-                        order_check(res, f"{src} fields, {name}: {q} residual", p, theory[src])
-                rows.append((src, name, q, *e, p, theory[src], verdict))
-                if not _zero(e) and q == "gauss":
-                    (lines["exact"] if src == "exact" else lines["disc"]).append(
-                        Line(f"{name}" if src == "exact" else f"{src.upper()} {name}", h, e))
-            last = these[-1]
+            more_rows, more_lines = _report_residuals(res, src, name, these)
+            rows += more_rows
+            lines["exact" if src == "exact" else "disc"] += more_lines
             res.data[f"{src}|{name}"] = these
             if src == "exact":
-                comparisons += [(name, nodes[-1], *cells) for cells in _comparison_cells(last)]
-                res.check(f"exact fields, {name}: flagged compatible at {nodes[-1]} points a side",
-                          "the paper's test: |ratio - 1| <= 0.05 and cosine >= 0.95 where both vectors are "
-                          "resolved, residual <= 0.05 where one vanishes", last["summary"], last["compatible"])
-    # the incompatible rest state, and a compatible one
-    with warnings.catch_warnings(record=True) as made:
-        warnings.simplefilter("always")
-        bad = dm.Scene(dm.Sheet(nodes=(17, 17)), dm.Material(eta=1.0, xi=1.0), rest_metric=1.0,
-                       rest_curvature=0.5, name="incompatible")
-    res.check("Scene(...) with that rest state warns when it is made", "one IncompatibleRestState warning",
-              f"{sum(issubclass(w.category, IncompatibleRestState) for w in made)} warning(s)",
-              sum(issubclass(w.category, IncompatibleRestState) for w in made) == 1)
-    c = check_rest_state(bad)
-    res.check("rest state G0 = I, B0 = 0.5 I: flagged incompatible", "compatible = False",
-              f"compatible = {c.compatible}; {c.summary()}", not c.compatible)
-    res.check("rest state G0 = I, B0 = 0.5 I: Gauss residual", "0.25 (K from G = 0, det B0 / det G0 = 0.25)",
-              f"{c.gauss:.15g}", abs(c.gauss - 0.25) < 1e-12)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        warn_if_incompatible(bad)
-    res.check("warn_if_incompatible warns on that scene", "one IncompatibleRestState warning",
-              f"{sum(issubclass(w.category, IncompatibleRestState) for w in caught)} warning(s)",
-              sum(issubclass(w.category, IncompatibleRestState) for w in caught) == 1)
-    good = check_rest_state(dm.Scene(dm.Sheet(rest=sf.get("monge")), dm.Material(eta=1.0, xi=1.0)))
-    res.check("rest state of a sheet whose rest shape is the Monge patch: compatible", "compatible = True",
-              good.summary(), good.compatible)
-    res.data["incompatible_rest_state"] = {"gauss": c.gauss, "codazzi": c.codazzi, "mismatch": c.mismatch_relative,
-                                           "comparisons": {k: dataclasses.asdict(v) for k, v in c.comparisons.items()}}
-    comparisons += [("G0 = I, B0 = 0.5 I (a scene's rest state)", max(bad.sheet.nodes[0], 33), *cells)
-                    for cells in _comparison_cells(res.data["incompatible_rest_state"])]
+                comparisons += _report_paper_test(res, name, these[-1], nodes[-1])
+    comparisons += _report_rest_states(res)
     res.tables.append(Table("comparisons", "The paper's test: ratio and cosine of the vectors of eq. (10)",
                             ("fields", "points a side", "comparison", "resolved points", "ratio worst (median)",
                              "cosine worst (median)", "guarded residual", "verdict"),
@@ -175,7 +210,8 @@ def fill(res, levels: int, runner, surfaces=None) -> None:
                                  "the test (at most 0.05). No cell is NaN or infinite."))
     res.findings.append("The paper's ratio and cosine are pointwise and ill-conditioned where the compared vectors "
                         "are small: the test guards those points and judges them by the residual |u - v| instead. "
-                        "Exact fields of the generic surfaces give ratio and cosine within 1e-3 of one on the finest grid (table); "
+                        "Exact fields of the generic surfaces give ratio and cosine within 1e-3 of one on the finest "
+                        "grid (table); "
                         "the plane and the cylinder have no resolved point (every third derivative compared is zero) "
                         "and pass on a residual at round-off; the incompatible rest state G0 = I, B0 = 0.5 I has "
                         "(r_11)_2 = -0.25 r_2 against (r_12)_1 = 0, no ratio and no angle, and fails on its residual.")
@@ -192,5 +228,6 @@ def fill(res, levels: int, runner, surfaces=None) -> None:
                                      "max Gauss residual (1/m^2)", tuple(lines["disc"]), (1.0, 2.0)))))
 
 
-STUDY = Study('compatibility', "the paper's compatibility test (eq. 10): Gauss and Mainardi-Codazzi residuals, vector comparison",
+STUDY = Study('compatibility', "the paper's compatibility test (eq. 10): Gauss and Mainardi-Codazzi residuals, "
+              "vector comparison",
               Levels(quick=4, full=5, minimum=3, maximum=6), fill, surfaces=True)

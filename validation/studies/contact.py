@@ -58,6 +58,8 @@ from validation.harness.study import Levels, Study, Table, nodes_at
 from validation.studies.meshcontact import fill_mesh
 from validation.studies.selfcontact import fill_self, one_thread
 
+#: the backends every experiment runs on
+BACKENDS = ("fd", "fe")
 #: the sheet of the inclined-plane and drop experiments: a light cloth, no air damping
 CLOTH = dict(mu=0.2, gamma=0.0, eta=np.full((2, 2), 20.0), xi=np.full((2, 2), 1e-5))
 #: the coarsest grids (nodes a side)
@@ -67,6 +69,10 @@ FRICTION = 0.3
 INCLINES = (-1.0, 1.0, 13.3)
 #: clearance runs: (scene, t_end s, fields)
 CLEARANCE_SCENES = (("floor", 0.25, dict(height=0.05)), ("sphere", 0.25, {}), ("drape", 0.25, {}))
+#: Newmark's steps in the energy experiment (s)
+NEWMARK_DT = (1e-3, 5e-4, 2.5e-4)
+#: how long the drape runs (s)
+DRAPE_T_END = 1.5
 
 
 def _run(model, dt, t_end, X0=None, V0=None, scheme=None, watch=None):
@@ -96,12 +102,16 @@ class SceneCase:
     nodes: int
     t_end: float
 
+    @property
+    def label(self) -> str:
+        return f"{self.scene} {self.backend.upper()} {self.nodes}x{self.nodes}"
+
 
 def run_scene(case: SceneCase) -> dict:
     """A contact scene on a small grid: its smallest clearance over every step and contact point."""
     fields_ = dict(next(f for s, _, f in CLEARANCE_SCENES if s == case.scene))
     cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), **fields_)
-    model = make_model(scenes.build(cfg), case.backend)
+    model = dm.Simulation(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt).model
     result, clear, _ = _run(model, cfg.dt, case.t_end)
     return {"steps": result.steps, "clearance": float(clear.min()), "final": float(clear[-1])}
 
@@ -133,6 +143,10 @@ class DropCase:
     backend: str
     nodes: int
     speed: float
+
+    @property
+    def label(self) -> str:
+        return f"drop at {self.speed:g} m/s {self.backend.upper()} {self.nodes}x{self.nodes}"
 
 
 def run_fast_drop(case: DropCase) -> dict:
@@ -215,29 +229,29 @@ def run_drape(case: DrapeCase) -> dict:
     from validation.harness.drape import drape_coefficient
 
     cfg = scenes.config("drape", nodes=(case.nodes, case.nodes))
-    model = make_model(scenes.build(cfg), case.backend)
+    model = dm.Simulation(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt).model
     result, clear, _ = _run(model, cfg.dt, case.t_end)
     return {"dc": drape_coefficient(model, result.state.X, cfg.table()), "clearance": float(clear.min()),
             "kinetic": float(model.kinetic_energy(result.state.V)), "points": contact_points(model).P}
 
 
-def fill(res, levels: int, runner) -> None:
-    backends = ("fd", "fe")
+def _report_clearance(res, runner) -> None:
+    """1. Clearance: the contact scenes on small grids and the fast drop, each on both backends."""
     small = {"fd": 9, "fe": 5}
-    cases = ([SceneCase(b, s, small[b], t) for s, t, _ in CLEARANCE_SCENES for b in backends]
-             + [DropCase(b, small[b], 5.0) for b in backends])
+    cases = ([SceneCase(b, s, small[b], t) for s, t, _ in CLEARANCE_SCENES for b in BACKENDS]
+             + [DropCase(b, small[b], 5.0) for b in BACKENDS])
     raw = runner.map(run_clearance, cases, desc="clearance")
-    rows = []
-    for c, r in zip(cases, raw):
-        label = f"{c.scene if isinstance(c, SceneCase) else 'drop at 5 m/s'} {c.backend.upper()} {c.nodes}x{c.nodes}"
-        rows.append((label, r["steps"], r["clearance"], r["final"]))
+    rows = [(c.label, r["steps"], r["clearance"], r["final"]) for c, r in zip(cases, raw)]
     res.check_all("clearance", "clearance > 0 at every step and contact point", {r[0]: r[2] > 0 for r in rows})
     res.tables.append(Table("clearance", "Smallest clearance over every step and contact point",
                             ("run", "steps", "smallest clearance (m)", "final clearance (m)"), rows))
     res.data["clearance"] = {r[0]: r[2] for r in rows}
 
+
+def _report_incline(res, runner) -> None:
+    """2. The inclined plane: stick below the friction angle, slide above it, on each floor of :data:`FLOORS`."""
     angle = math.degrees(math.atan(FRICTION))
-    inc = [InclineCase(b, 5, angle + d, FRICTION, floor=f) for f in FLOORS for b in backends for d in INCLINES]
+    inc = [InclineCase(b, 5, angle + d, FRICTION, floor=f) for f in FLOORS for b in BACKENDS for d in INCLINES]
     raw = runner.map(run_incline, inc, desc="incline")
     rows, stick, slide = [], {f: {} for f in FLOORS}, {f: {} for f in FLOORS}
     for c, r in zip(inc, raw):
@@ -270,14 +284,17 @@ def fill(res, levels: int, runner) -> None:
                              "smallest clearance (m)"), rows))
     res.data["incline"] = [dict(zip(("run", "theory", "acceleration", "speed", "clearance"), r)) for r in rows]
 
-    en = ([EnergyCase(b, 5, "implicit-euler") for b in backends]
-          + [EnergyCase(b, 5, "newmark", dt) for b in backends for dt in NEWMARK_DT])
+
+def _report_energy(res, runner) -> None:
+    """3. The energy of an impact: implicit Euler dissipates, Newmark's error falls with dt."""
+    en = ([EnergyCase(b, 5, "implicit-euler") for b in BACKENDS]
+          + [EnergyCase(b, 5, "newmark", dt) for b in BACKENDS for dt in NEWMARK_DT])
     raw = runner.map(run_energy, en, desc="energy")
     rows = [(f"{c.backend.upper()} {c.scheme}", c.dt, r["rise"], r["fall"], r["end"], r["clearance"])
             for c, r in zip(en, raw)]
     res.check_all("energy: implicit Euler dissipates", "E never rises (1e-9 m g h)",
                   {r[0]: r[2] <= 1e-9 and r[5] > 0 for r in rows if "euler" in r[0]})
-    for b in backends:
+    for b in BACKENDS:
         rise = [r[2] for r in rows if r[0] == f"{b.upper()} newmark"]
         res.check(f"energy: {b.upper()} Newmark's energy error falls with dt", "largest rise of E falls as dt halves",
                   ", ".join(f"{v:.3g}" for v in rise), len(rise) >= 2 and np.all(np.diff(rise) < 0))
@@ -292,7 +309,10 @@ def fill(res, levels: int, runner) -> None:
                              "smallest clearance (m)"), rows))
     res.data["energy"] = [dict(zip(("run", "dt", "rise", "fall", "end", "clearance"), r)) for r in rows]
 
-    dr = [DrapeCase(b, nodes_at(k, COARSEST[b]), DRAPE_T_END) for b in backends for k in range(levels)]
+
+def _report_drape(res, runner, levels: int) -> None:
+    """4. The drape under refinement: the changes between levels fall, FD and FE agree at the finest."""
+    dr = [DrapeCase(b, nodes_at(k, COARSEST[b]), DRAPE_T_END) for b in BACKENDS for k in range(levels)]
     raw = runner.map(run_drape, dr, desc="drape")
     rows, dcs, spacing = [], {}, {}
     for c, r in zip(dr, raw):
@@ -300,7 +320,7 @@ def fill(res, levels: int, runner) -> None:
         dcs.setdefault(c.backend, []).append(r["dc"])
         spacing.setdefault(c.backend, []).append(1.0 / (c.nodes - 1))
     orders = {}
-    for b in backends:
+    for b in BACKENDS:
         changes = np.abs(np.diff(dcs[b]))
         # observed order of the self-convergence: successive changes, each at the coarser of its two spacings
         with np.errstate(divide="ignore"):  # a change of exactly zero: an infinite order
@@ -318,6 +338,14 @@ def fill(res, levels: int, runner) -> None:
                              "smallest clearance (m)"), rows))
     res.data["drape"] = dcs
     res.data["drape_orders"] = orders
+
+
+def fill(res, levels: int, runner) -> None:
+    """The six experiments of the module docstring, in its order (the drape over ``levels`` levels)."""
+    _report_clearance(res, runner)
+    _report_incline(res, runner)
+    _report_energy(res, runner)
+    _report_drape(res, runner, levels)
     fill_self(res, runner)
     fill_mesh(res, runner)
     res.findings.append(
@@ -337,11 +365,6 @@ def fill(res, levels: int, runner) -> None:
         "sign. The shadow's area is extrapolated from two rasters (validation.harness.drape): the raw 4096-pixel one "
         "was 2.4e-4 to 6.0e-4 too high, as much as the finest changes.")
 
-
-#: Newmark's steps in the energy experiment (s)
-NEWMARK_DT = (1e-3, 5e-4, 2.5e-4)
-#: how long the drape runs (s)
-DRAPE_T_END = 1.5
 
 STUDY = Study("contact", "contact: clearance, stick and slip on an incline, the energy of an impact, Cusick drape, "
               "self-contact, mesh obstacles",

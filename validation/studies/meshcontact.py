@@ -146,8 +146,9 @@ def run_paddle(case: PaddleCase) -> dict:
             "blocked": stepper.newton.problem.contact.blocked}
 
 
-def fill_mesh(res, runner) -> None:
-    """Experiment 6 of the contact study (module docstring): its checks, tables and data."""
+def _report_ball(res, runner) -> tuple[float, list]:
+    """6a at t = BALL["t_end"]: each triangulation's drape against the analytic ball's over the cap; (the finest
+    triangulation's sag, the cost rows)."""
     cases = [BallCase(0)] + [BallCase(k) for k in LEVELS]
     raw = runner.map(run_ball, cases, desc="mesh ball")
     ref = raw[0]
@@ -178,10 +179,12 @@ def fill_mesh(res, runner) -> None:
     res.data["mesh_ball"] = {r[0]: dict(zip(("sag", "chord", "largest", "median", "steps", "crossed", "clearance",
                                              "raised"), r[1:])) for r in rows}
     res.data["mesh_ball"]["analytic"] = {"steps": ref["steps"], "clearance": ref["clearance"]}
+    return rows[-1][1], cost
 
-    # later, the cloth slides off the ball's top, an unstable state: the same measurement over the whole sheet,
-    # the finest triangulation's and the analytic ball's moved sideways by that triangulation's sag
-    finest = rows[-1][1]
+
+def _report_ball_late(res, runner, finest: float) -> None:
+    """6a at t = LATE, when the cloth slides off the ball's top, an unstable state: the same measurement over the
+    whole sheet, the finest triangulations' and the analytic ball's moved sideways by the finest one's sag."""
     late = [BallCase(0, LATE), BallCase(0, LATE, finest), BallCase(LEVELS[-2], LATE), BallCase(LEVELS[-1], LATE)]
     raw = runner.map(run_ball, late, desc="mesh ball, later")
     P0 = np.asarray(raw[0]["points"])
@@ -210,6 +213,9 @@ def fill_mesh(res, runner) -> None:
         f"{meshes[-1] / moved:.1f} times the moved ball's and " + ("falling" if falls else "not falling")
         + " with the level: there the mesh's drape is not within the triangulation's error.")
 
+
+def _report_paddle(res, runner) -> None:
+    """6b: the paddle never passes the sheet, on either backend."""
     paddles = [PaddleCase("fd", 9), PaddleCase("fe", 5)]
     raw = runner.map(run_paddle, paddles, desc="mesh paddle")
     rows = [(f"{c.backend.upper()} {c.nodes}x{c.nodes}", r["steps"], r["crossed"], r["clearance"], r["front"],
@@ -222,6 +228,13 @@ def fill_mesh(res, runner) -> None:
                              "steps rejected: the obstacle would strike the sheet"), rows))
     res.data["mesh_paddle"] = {r[0]: dict(zip(("steps", "crossed", "clearance", "front", "reach", "blocked"), r[1:]))
                                for r in rows}
+
+
+def fill_mesh(res, runner) -> None:
+    """Experiment 6 of the contact study (module docstring): its checks, tables and data."""
+    finest, cost = _report_ball(res, runner)
+    _report_ball_late(res, runner, finest)
+    _report_paddle(res, runner)
     res.tables.append(Table("mesh_cost", "Mesh obstacles' cost: wall time of each triangulated ball's run against the "
                             "analytic ball's (the measurements at every step left out)",
                             ("obstacle", "seconds", "seconds, analytic", "ratio"), cost, volatile=True))

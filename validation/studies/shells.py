@@ -50,7 +50,7 @@ ROLL_STEPS = {"fe": 16, "fd": 64}
 
 @dataclass(frozen=True)
 class Case:
-    kind: str  # "weights", "roll", "frozen", "column", "symmetry", "roof", "pullout"
+    kind: str  # a key of RUNS
     backend: str
     nodes: int
 
@@ -133,12 +133,6 @@ def _at_levels(lam, series, levels) -> list:
     return out
 
 
-def run_case(case: Case) -> dict:
-    return {"weights": _weights, "roll": _roll, "frozen": _frozen, "column": _column,
-            "symmetry": _quarter, "roof": _roof, "pullout": _pullout,
-            "pinched": _pinched}[case.kind](case)
-
-
 def _quarter(case: Case) -> dict:
     """The whole plate (8 x 8 elements) and its quarter (4 x 4) with two symmetry edges, Koiter at nu = 0.3."""
     E, nu, h, q = 1e6, 0.3, 0.01, 40.0
@@ -158,41 +152,57 @@ def _quarter(case: Case) -> dict:
             "difference": float(np.max(np.abs(quarter - whole[:5, :5])) / whole[4, 4, 2])}
 
 
-def fill(res, levels: int, runner) -> None:
-    """``levels`` refinement levels of each convergence part (3 quick)."""
-    grids = {"weights": [8 * 2**k + 1 for k in range(levels)],  # 9, 17, 33, ...
-             "roll_fe": [(8 * 2**k) + 1 for k in range(levels - 1)], "roll_fd": [16 * 2**k + 1 for k in range(levels - 1)],
-             "frozen": [8 * 2**k + 1 for k in range(levels + 1)], "roof": [8 * 2**k + 1 for k in range(levels - 2)],
-             "pullout": [25, 37][:levels - 2], "pinched": [33][:levels - 3]}
-    cases = ([Case("weights", "fd", n) for n in grids["weights"]] + [Case("weights", "fe", n) for n in grids["weights"][:2]]
-             + [Case("roll", "fe", n) for n in grids["roll_fe"]] + [Case("roll", "fd", n) for n in grids["roll_fd"]]
-             + [Case("frozen", "fd", n) for n in grids["frozen"]]
-             + [Case("column", "fe", 17), Case("column", "fd", 33), Case("symmetry", "fe", 9)]
-             + [Case("roof", "fe", n) for n in grids["roof"]] + [Case("pullout", "fe", n) for n in grids["pullout"]]
-             + [Case("pinched", "fe", n) for n in grids["pinched"]])
-    raw = dict(zip(cases, runner.map(run_case, cases, desc="shells")))
-    res.config.update({"grids": grids, "roll_load_steps": ROLL_STEPS, "manufactured": {"A": manufactured.A,
-                       "W": manufactured.W}, "strip": shells.ROLL})
-    rows, panels = [], []
+#: kind of case -> the function that runs it
+RUNS = {"weights": _weights, "roll": _roll, "frozen": _frozen, "column": _column, "symmetry": _quarter, "roof": _roof,
+        "pullout": _pullout, "pinched": _pinched}
 
-    # 1. weights that vary
-    for b, theory, n_levels in (("fd", 2, levels), ("fe", 4, 2)):
+
+def run_case(case: Case) -> dict:
+    return RUNS[case.kind](case)
+
+
+def _grids(levels: int) -> dict:
+    """The nodes a side of each part's runs at ``levels`` levels."""
+    return {"weights": [8 * 2**k + 1 for k in range(levels)],  # 9, 17, 33, ...
+            "roll_fe": [(8 * 2**k) + 1 for k in range(levels - 1)],
+            "roll_fd": [16 * 2**k + 1 for k in range(levels - 1)],
+            "frozen": [8 * 2**k + 1 for k in range(levels + 1)], "roof": [8 * 2**k + 1 for k in range(levels - 2)],
+            "pullout": [25, 37][:levels - 2], "pinched": [33][:levels - 3]}
+
+
+def _cases(grids: dict) -> list[Case]:
+    """Every run of the study, part by part."""
+    return ([Case("weights", "fd", n) for n in grids["weights"]]
+            + [Case("weights", "fe", n) for n in grids["weights"][:2]]
+            + [Case("roll", "fe", n) for n in grids["roll_fe"]] + [Case("roll", "fd", n) for n in grids["roll_fd"]]
+            + [Case("frozen", "fd", n) for n in grids["frozen"]]
+            + [Case("column", "fe", 17), Case("column", "fd", 33), Case("symmetry", "fe", 9)]
+            + [Case("roof", "fe", n) for n in grids["roof"]] + [Case("pullout", "fe", n) for n in grids["pullout"]]
+            + [Case("pinched", "fe", n) for n in grids["pinched"]])
+
+
+def _report_weights(res, raw: dict, grids: dict, levels: int) -> tuple[list, Panel]:
+    """1. Weights that vary: FD's and FE's node errors under refinement; (table rows, FD's panel)."""
+    rows = []
+    for b, theory, n_levels, bound in (("fd", 2, levels, 3e-4), ("fe", 4, 2, 2e-6)):
         nodes = grids["weights"][:n_levels]
         h = 1.0 / (np.array(nodes) - 1)
         e = np.array([raw[Case("weights", b, n)]["error"] for n in nodes])
         p = fit_order(h, e)
-        bound = 3e-4 if b == "fd" else 2e-6
         order_check(res, f"varying weights, manufactured membrane, {b.upper()} node error (m)", p, theory,
                     finest=e[-1], bound=bound)
         rows += [("weights", b.upper(), n, ee, pp) for n, ee, pp in zip(nodes, e, [np.nan, *pairwise_orders(h, e)])]
         res.data[f"weights_{b}"] = {"nodes": nodes, "error": e.tolist(), "order": p}
         if b == "fd":
-            panels.append(Panel("manufactured membrane, varying eta_ij", "grid spacing h (m)",
-                                "largest node error (m)", (Line(f"FD (p = {p:.2f})", h, e),), (2.0,)))
+            panel = Panel("manufactured membrane, varying eta_ij", "grid spacing h (m)", "largest node error (m)",
+                          (Line(f"FD (p = {p:.2f})", h, e),), (2.0,))
+    return rows, panel
 
-    # 2. rolled cantilever
-    lines = []
-    for b, theory in (("fe", 4), ("fd", 2)):
+
+def _report_roll(res, raw: dict, grids: dict, levels: int) -> tuple[list, Panel]:
+    """2. The rolled cantilever: the tip's gap under refinement on FE and FD; (table rows, panel)."""
+    rows, lines = [], []
+    for b, theory, window in (("fe", 4, (0.7, 1.0)), ("fd", 2, (0.3, 0.5))):
         nodes = grids[f"roll_{b}"]
         h = 1.0 / (np.array(nodes) - 1)
         gap = np.array([raw[Case("roll", b, n)]["gap"] for n in nodes])
@@ -200,15 +210,16 @@ def fill(res, levels: int, runner) -> None:
         if b == "fe":
             res.check("rolled cantilever, FE: the tip back at the clamp", "gap <= 1e-3 L at the finest grid",
                       f"gap {gap[-1]:.2e} L at {nodes[-1]} nodes", gap[-1] <= 1e-3)
-        order_check(res, f"rolled cantilever, {b.upper()} tip gap / L", p, theory, window=(0.7, 1.0) if b == "fe"
-                    else (0.3, 0.5))
+        order_check(res, f"rolled cantilever, {b.upper()} tip gap / L", p, theory, window=window)
         rows += [("roll", b.upper(), n, g, pp) for n, g, pp in zip(nodes, gap, [np.nan, *pairwise_orders(h, gap)])]
         res.data[f"roll_{b}"] = {"nodes": nodes, "gap": gap.tolist(), "order": p}
         lines.append(Line(f"{b.upper()} (p = {p:.2f})", h, gap))
-    panels.append(Panel("cantilever rolled by M = 2 pi EI / L", "grid spacing h (m)", "tip gap / L", tuple(lines),
-                        (2.0, 4.0)))
+    return rows, Panel("cantilever rolled by M = 2 pi EI / L", "grid spacing h (m)", "tip gap / L", tuple(lines),
+                       (2.0, 4.0))
 
-    # 3. frozen clamped plate
+
+def _report_frozen(res, raw: dict, grids: dict, levels: int) -> tuple[list, Panel]:
+    """3. The frozen clamped plate: the centre deflection against Timoshenko's; (table rows, panel)."""
     nodes = grids["frozen"]
     h = 1.0 / (np.array(nodes) - 1)
     e = np.array([raw[Case("frozen", "fd", n)]["error"] for n in nodes])
@@ -219,16 +230,14 @@ def fill(res, levels: int, runner) -> None:
     if at65 is not None:
         res.check("frozen clamped plate within 1 % at 65 x 65 nodes", "relative error <= 1e-2",
                   f"{at65:.2e}", at65 <= 1e-2)
-    rows += [("frozen plate", "FD", n, ee, pp) for n, ee, pp in zip(nodes, e, [np.nan, *pairwise_orders(h, e)])]
+    rows = [("frozen plate", "FD", n, ee, pp) for n, ee, pp in zip(nodes, e, [np.nan, *pairwise_orders(h, e)])]
     res.data["frozen"] = {"nodes": nodes, "error": e.tolist(), "order": p}
-    panels.append(Panel("frozen clamped plate (ghost-row clamp)", "grid spacing h (m)", "relative error of w_c",
-                        (Line(f"FD (p = {p:.2f})", h, e),), (2.0,)))
-    res.tables.append(Table("convergence", "Errors under refinement (pairwise orders)",
-                            ("problem", "backend", "nodes along", "error", "pairwise order"), rows,
-                            note="weights: largest node distance to r* (m); roll: tip gap / L; frozen plate: "
-                                 "relative error of the centre deflection."))
+    return rows, Panel("frozen clamped plate (ghost-row clamp)", "grid spacing h (m)", "relative error of w_c",
+                       (Line(f"FD (p = {p:.2f})", h, e),), (2.0,))
 
-    # 4. the buckled column
+
+def _report_column(res, raw: dict) -> None:
+    """4. The buckled column: the straight path's loss of stability and the switched branch against the elastica."""
     crows = []
     for b, n, bound in (("fe", 17, 2e-3), ("fd", 33, 7e-3)):
         r = raw[Case("column", b, n)]
@@ -243,13 +252,16 @@ def fill(res, levels: int, runner) -> None:
                   f"{dev.max():.2e} over {dev.size} points, delta / L up to {max(r['deflection']):.2f}, "
                   f"{sum(k == 0 for k in r['negative'])} of {len(r['negative'])} stable",
                   dev.size > 10 and dev.max() <= bound and max(r["deflection"]) > 0.5 and not any(r["negative"]))
-        crows += [(b.upper(), n, d, x, el) for d, x, el in zip(r["deflection"][::5], r["ratio"][::5], r["elastica"][::5])]
+        crows += [(b.upper(), n, d, x, el)
+                  for d, x, el in zip(r["deflection"][::5], r["ratio"][::5], r["elastica"][::5])]
         res.data[f"column_{b}"] = r
     res.tables.append(Table("column", "The switched branch of the clamped column against the elastica (every "
                             "fifth point)", ("backend", "nodes", "tip deflection / L", "P / P_cr", "elastica P / P_cr"),
                             crows))
 
-    # 5. symmetry
+
+def _report_symmetry(res, raw: dict) -> None:
+    """5. Symmetry: the quarter plate against the whole."""
     s = raw[Case("symmetry", "fe", 9)]
     res.check("symmetry planes: the quarter plate is the whole plate (FE, Koiter nu = 0.3)",
               "every node within 1e-9 of the centre deflection, deflected beyond h",
@@ -257,7 +269,9 @@ def fill(res, levels: int, runner) -> None:
               s["difference"] <= 1e-9 and s["centre"] > s["h"])
     res.data["symmetry"] = s
 
-    # 6. the hinged roof against Sze, Liu and Lo (2004)
+
+def _report_roof(res, raw: dict, grids: dict) -> None:
+    """6. The hinged roof against Sze, Liu and Lo (2004): the limit points and the path at every tabulated level."""
     table = shells.ROOF_TABLE[1:]
     peak = float(table[:int(np.argmax(np.diff(table[:, 0]) < 0)) + 1, 0].max())  # the first limit load
     runs = {n: raw[Case("roof", "fe", n)] for n in grids["roof"]}
@@ -271,10 +285,11 @@ def fill(res, levels: int, runner) -> None:
     limits = r["limits"]
     neg = np.array(r["negative"])
     between = neg[limits[0] + 1:limits[1]] if len(limits) >= 2 else np.array([])
+    before = sorted(set(neg[:limits[0]].tolist())) if limits else []
     res.check("hinged roof: the path passes both limit points (FE, arc length)",
               "a maximum and then a minimum of the load, one negative eigenvalue between them, none before",
               f"limit points at P/P_max = {', '.join(f'{lam[k]:.4f}' for k in limits[:2])}; negative eigenvalues "
-              f"between: {sorted(set(between.tolist()))}, before: {sorted(set(neg[:limits[0]].tolist())) if limits else []}",
+              f"between: {sorted(set(between.tolist()))}, before: {before}",
               len(limits) >= 2 and between.size > 0 and np.all(between == 1) and np.all(neg[:limits[0]] == 0))
     res.check_all(f"hinged roof within 2 % of the published path at every tabulated level (FE {finest} nodes)",
                   "|P/P_max - table| <= 2 % of the tabulated load, at each tabulated deflection -W_C",
@@ -297,31 +312,71 @@ def fill(res, levels: int, runner) -> None:
         f"{'stiffer' if ours[0] > table[0, 0] else 'softer'}. The published path is ABAQUS's S4R (a shear-deformable "
         "element, on Sze's mesh), ours Koiter's shell; the full level runs a second grid, "
         "which shows whether the difference is this discretisation's.")
-    # 7. the pull-out cylinder and 8. the pinched cylinder against Sze, Liu and Lo (2004)
-    for kind, table, names, label, where in (
-            ("pullout", shells.PULLOUT_TABLE[1:], ("wA", "uB", "uC"), ("w_A", "-u_B", "-u_C"), "sze35_ref.dat"),
-            ("pinched", shells.PINCHED_TABLE[1:], ("wA", "uB"), ("-W_A", "U_B"), "sze36_ref.dat")):
-        for n in grids[kind]:
-            r = raw[Case(kind, "fe", n)]
-            ours = _at_levels(np.array(r["load"]), [np.array(r[q]) for q in names], table[:, 0])
-            errs, prow = {}, []
-            for (lv, *ref), o in zip(table, ours):
-                if o is None:
-                    continue
-                e = [abs(x - v) / abs(v) for x, v in zip(o, ref)]
-                errs[f"P/P_max = {lv:g}"] = max(e) <= 0.02
-                prow.append((lv, *[x for pair in zip(ref, o) for x in pair], max(e)))
-            nodes = "x".join(map(str, r["nodes"]))
-            title = {"pullout": "pull-out cylinder", "pinched": "pinched cylinder over rigid diaphragms"}[kind]
-            res.check_all(f"{title} within 2 % of the published {', '.join(label)} at every tabulated load "
-                          f"(FE {nodes} nodes)", f"|ours - table| <= 2 % of the table, each of the {len(label)}, "
-                          "each level", errs if len(errs) == len(table) else {})
-            res.tables.append(Table(f"{kind}_{nodes}", f"{title.capitalize()} (Sze, Liu and Lo 2004, read from MBDyn's "
-                                    f"{where}) against ours (FE {nodes} nodes, an octant)",
-                                    ("P/P_max", *[f"{q} {w}" for q in label for w in ("published", "ours")],
-                                     "largest error / published"), prow))
-            res.data[f"{kind}_{nodes}"] = r
-    res.figures.append(Figure("convergence", "Errors under refinement", tuple(panels)))
+
+
+@dataclass(frozen=True)
+class Published:
+    """A path of Sze, Liu and Lo (2004) read from MBDyn's table ``where``: the loads and the displacements ``names``
+    of our runs (``label`` in the report) at each."""
+
+    title: str
+    table: np.ndarray
+    names: tuple[str, ...]
+    label: tuple[str, ...]
+    where: str
+
+
+#: 7. the pull-out cylinder and 8. the pinched cylinder: kind of run -> its published path
+PUBLISHED = {"pullout": Published("pull-out cylinder", shells.PULLOUT_TABLE[1:], ("wA", "uB", "uC"),
+                                  ("w_A", "-u_B", "-u_C"), "sze35_ref.dat"),
+             "pinched": Published("pinched cylinder over rigid diaphragms", shells.PINCHED_TABLE[1:], ("wA", "uB"),
+                                  ("-W_A", "U_B"), "sze36_ref.dat")}
+
+
+def _report_published(res, raw: dict, grids: dict, kind: str) -> None:
+    """7. and 8.: each run of ``kind`` against its published path at every tabulated load."""
+    pub = PUBLISHED[kind]
+    table, label = pub.table, pub.label
+    for n in grids[kind]:
+        r = raw[Case(kind, "fe", n)]
+        ours = _at_levels(np.array(r["load"]), [np.array(r[q]) for q in pub.names], table[:, 0])
+        errs, prow = {}, []
+        for (lv, *ref), o in zip(table, ours):
+            if o is None:
+                continue
+            e = [abs(x - v) / abs(v) for x, v in zip(o, ref)]
+            errs[f"P/P_max = {lv:g}"] = max(e) <= 0.02
+            prow.append((lv, *[x for pair in zip(ref, o) for x in pair], max(e)))
+        nodes = "x".join(map(str, r["nodes"]))
+        res.check_all(f"{pub.title} within 2 % of the published {', '.join(label)} at every tabulated load "
+                      f"(FE {nodes} nodes)", f"|ours - table| <= 2 % of the table, each of the {len(label)}, "
+                      "each level", errs if len(errs) == len(table) else {})
+        res.tables.append(Table(f"{kind}_{nodes}", f"{pub.title.capitalize()} (Sze, Liu and Lo 2004, read from MBDyn's "
+                                f"{pub.where}) against ours (FE {nodes} nodes, an octant)",
+                                ("P/P_max", *[f"{q} {w}" for q in label for w in ("published", "ours")],
+                                 "largest error / published"), prow))
+        res.data[f"{kind}_{nodes}"] = r
+
+
+def fill(res, levels: int, runner) -> None:
+    """``levels`` refinement levels of each convergence part (3 quick)."""
+    grids = _grids(levels)
+    cases = _cases(grids)
+    raw = dict(zip(cases, runner.map(run_case, cases, desc="shells")))
+    res.config.update({"grids": grids, "roll_load_steps": ROLL_STEPS, "manufactured": {"A": manufactured.A,
+                       "W": manufactured.W}, "strip": shells.ROLL})
+    parts = [report(res, raw, grids, levels) for report in (_report_weights, _report_roll, _report_frozen)]
+    res.tables.append(Table("convergence", "Errors under refinement (pairwise orders)",
+                            ("problem", "backend", "nodes along", "error", "pairwise order"),
+                            [row for rows, _ in parts for row in rows],
+                            note="weights: largest node distance to r* (m); roll: tip gap / L; frozen plate: "
+                                 "relative error of the centre deflection."))
+    _report_column(res, raw)
+    _report_symmetry(res, raw)
+    _report_roof(res, raw, grids)
+    for kind in PUBLISHED:
+        _report_published(res, raw, grids, kind)
+    res.figures.append(Figure("convergence", "Errors under refinement", tuple(panel for _, panel in parts)))
     if not grids["pinched"]:
         res.findings.append("The pinched cylinder over rigid diaphragms runs at the full level only (an octant on FE "
                             "33 x 33 nodes, about 15 CPU minutes).")

@@ -41,6 +41,7 @@ the trapezoidal rule across the strip (the pointwise weights count W + h2).
 from __future__ import annotations
 
 import logging
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -100,7 +101,7 @@ def elastica_tip(load: float) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class Case:
-    kind: str  # "arc", "relax", "elastica", "tpbf87", "scene"
+    kind: str  # a key of RUNS
     nodes: int
     kappa: float = 0.0
     dt: float = 0.0
@@ -114,87 +115,93 @@ def make(scene: dm.Scene, backend: str):
     return make_model(scene, backend, **({"weighting": "control-area"} if backend == "fd" else {}))
 
 
-def run_case(case: Case) -> dict:
-    if case.kind == "scene":
-        cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), fabric="", xi=SCENE_XI,
-                            force_model=case.force_model)  # a named fabric's (the curtain's denim) values, at xi
-        model = make_model(scenes.build(cfg), case.backend)
-        dt = min(cfg.dt, 0.5 * model.stable_step()) if model.scene.force_model.lags_alpha else case.dt
-        stepper = dm.TimeStepper(model, dt=dt, newton=NEWTON, solver=SOLVER)
-        stepper_log = logging.getLogger("deformable.dynamics.stepper")
-        level = stepper_log.level
-        stepper_log.setLevel(logging.ERROR)  # tpbf87 is expected to diverge here; the table says so
-        try:
-            result = stepper.run(model.initial_state(), t_end=SCENE_T)
-        finally:
-            stepper_log.setLevel(level)
-        reports = stepper.newton_reports
-        return {"status": result.status, "t": result.state.t, "dt": dt, "steps": result.steps,
-                "energy": model.energy(result.state.X).total,
-                "newton": float(np.mean([r.iterations for r in reports])) if reports else float("nan")}
-    if case.kind == "arc":
-        model = make(strip_scene(case.nodes, case.kappa), case.backend)
-        X, history = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
-        tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
-        return {"h": model.spacing[0], "tip": tip.tolist(), "error": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
-                "iterations": len(history) - 1}
-    if case.kind == "relax":
-        model = make(strip_scene(case.nodes, case.kappa, gamma=8.0), "fd")
-        Xeq, _ = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
-        stepper = dm.TimeStepper(model, dt=case.dt, newton=NEWTON)
-        result = stepper.run(model.initial_state(), t_end=RELAX_T)
-        mid = STRIP["width_nodes"] // 2
-        tip = model.grid(result.state.X)[-1, mid]
-        return {"status": result.status, "t": result.state.t, "tip": tip.tolist(),
-                "to_equilibrium": float(np.max(np.abs(tip - model.grid(Xeq)[-1, mid]))),
-                "to_arc": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
-                "newton": float(np.mean([r.iterations for r in stepper.newton_reports]))}
-    if case.kind == "elastica":
-        p = ELASTICA
-        P = p["load"] * 2 * p["xi"] * p["W"] / p["L"] ** 2
-        scene = strip_scene(case.nodes, 0.0, L=p["L"], W=p["W"], eta=p["eta"], xi=p["xi"],
-                            forces=[dm.EdgeLoad("right", f=(0.0, 0.0, -P / p["W"]))])
-        model = make(scene, case.backend)
-        X, history = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
-        tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
-        return {"h": model.spacing[0], "u": float((p["L"] - tip[0]) / p["L"]), "w": float(-tip[2] / p["L"]),
-                "iterations": len(history) - 1}
-    # tpbf87: the paper's force on the same strip, from flat plus a 1e-6 bump, damped
+@contextmanager
+def _quiet_stepper():
+    """The time stepper's warnings held back: a divergence is an expected outcome here, which the table reports."""
+    stepper_log = logging.getLogger("deformable.dynamics.stepper")
+    level = stepper_log.level
+    stepper_log.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        stepper_log.setLevel(level)
+
+
+def _scene(case: Case) -> dict:
+    """A shipped scene at xi = SCENE_XI under ``case.force_model``, by implicit-Euler steps (tpbf87 may diverge)."""
+    cfg = scenes.config(case.scene, nodes=(case.nodes, case.nodes), fabric="", xi=SCENE_XI,
+                        force_model=case.force_model)  # a named fabric's (the curtain's denim) values, at xi
+    model = dm.Simulation(cfg, case.backend, nodes=cfg.nodes, dt=cfg.dt).model
+    # half the stretching bound unrounded (not deformable run's rounded step, deformable.dynamics.dt.within_stable):
+    # the committed report's steps
+    dt = min(cfg.dt, 0.5 * model.stable_step()) if model.scene.force_model.lags_alpha else case.dt
+    stepper = dm.TimeStepper(model, dt=dt, newton=NEWTON, solver=SOLVER)
+    with _quiet_stepper():  # tpbf87 is expected to diverge here; the table says so
+        result = stepper.run(model.initial_state(), t_end=SCENE_T)
+    reports = stepper.newton_reports
+    return {"status": result.status, "t": result.state.t, "dt": dt, "steps": result.steps,
+            "energy": model.energy(result.state.X).total,
+            "newton": float(np.mean([r.iterations for r in reports])) if reports else float("nan")}
+
+
+def _arc(case: Case) -> dict:
+    """The curling strip at equilibrium: its tip against the arc's."""
+    model = make(strip_scene(case.nodes, case.kappa), case.backend)
+    X, history = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
+    tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
+    return {"h": model.spacing[0], "tip": tip.tolist(), "error": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
+            "iterations": len(history) - 1}
+
+
+def _relax(case: Case) -> dict:
+    """The curling strip relaxed by damped implicit-Euler steps: its tip against equilibrium's and the arc's."""
+    model = make(strip_scene(case.nodes, case.kappa, gamma=8.0), "fd")
+    Xeq, _ = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
+    stepper = dm.TimeStepper(model, dt=case.dt, newton=NEWTON)
+    result = stepper.run(model.initial_state(), t_end=RELAX_T)
+    mid = STRIP["width_nodes"] // 2
+    tip = model.grid(result.state.X)[-1, mid]
+    return {"status": result.status, "t": result.state.t, "tip": tip.tolist(),
+            "to_equilibrium": float(np.max(np.abs(tip - model.grid(Xeq)[-1, mid]))),
+            "to_arc": float(np.max(np.abs(tip - arc_tip(case.kappa)))),
+            "newton": float(np.mean([r.iterations for r in stepper.newton_reports]))}
+
+
+def _elastica(case: Case) -> dict:
+    """The cantilever under its dead tip load at equilibrium: the tip's -u/L and w/L."""
+    p = ELASTICA
+    P = p["load"] * 2 * p["xi"] * p["W"] / p["L"] ** 2
+    scene = strip_scene(case.nodes, 0.0, L=p["L"], W=p["W"], eta=p["eta"], xi=p["xi"],
+                        forces=[dm.EdgeLoad("right", f=(0.0, 0.0, -P / p["W"]))])
+    model = make(scene, case.backend)
+    X, history = dm.equilibrium(model, model.initial_state(), newton=NEWTON)
+    tip = model.grid(X)[-1, STRIP["width_nodes"] // 2]
+    return {"h": model.spacing[0], "u": float((p["L"] - tip[0]) / p["L"]), "w": float(-tip[2] / p["L"]),
+            "iterations": len(history) - 1}
+
+
+def _tpbf87(case: Case) -> dict:
+    """The paper's force on the same strip, from flat plus a 1e-6 bump, damped."""
     model = make(strip_scene(case.nodes, case.kappa, force_model="tpbf87", gamma=8.0), "fd")
     X0 = model.initial_state()
     X0[:, 2] += 1e-6 * np.sin(np.pi * model.points[0] / STRIP["L"]).ravel()
-    stepper_log = logging.getLogger("deformable.dynamics.stepper")
-    level = stepper_log.level
-    stepper_log.setLevel(logging.ERROR)  # divergence is the expected outcome here, reported in the table
-    try:
+    with _quiet_stepper():  # divergence is the expected outcome here, reported in the table
         result = dm.TimeStepper(model, dt=case.dt, solver=SOLVER).run(X0, t_end=TPBF87_T)
-    finally:
-        stepper_log.setLevel(level)
     tip = model.grid(result.state.X)[-1, STRIP["width_nodes"] // 2]
     return {"status": result.status, "t": result.state.t, "tip_z": float(tip[2]),
             "max_z": float(np.max(np.abs(model.grid(result.state.X)[..., 2])))}
 
 
-def fill(res, levels: int, runner) -> None:
-    """Run the variational study over ``levels`` levels (11, 21, 41, ... nodes along the strip)."""
-    grids = {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")}
-    sizes = grids["fd"]
-    mid = sizes[min(1, levels - 1)]
-    cases = ([Case("arc", n, k, backend=b) for b in ("fd", "fe") for k in KAPPAS for n in grids[b]]
-             + [Case("elastica", n, backend=b) for b in ("fd", "fe") for n in grids[b]]
-             + [Case("relax", mid, k, 0.05) for k in KAPPAS]
-             + [Case("tpbf87", mid, k, dt) for k in KAPPAS for dt in (1e-3, 1e-4)]
-             + [Case("scene", SCENE_NODES[b], dt=5e-3, backend=b, scene=name, force_model=fm)
-                for name in ("curtain", "flag") for b in ("fd", "fe") for fm in ("variational", "tpbf87")])
-    raw = dict(zip(cases, runner.map(run_case, cases, desc="variational")))
-    res.config.update({
-        "strip": STRIP, "kappas": list(KAPPAS), "elastica": ELASTICA, "nodes_along": grids,
-        "fd_weighting": "control-area (strip and elastica)",
-        "scenes": {"xi": SCENE_XI, "t_end": SCENE_T, "nodes": SCENE_NODES, "variational_dt": 5e-3,
-                   "tpbf87_dt": "half the backend's stretching bound"}, "relaxation": {"gamma": 8.0, "dt": 0.05, "t_end": RELAX_T, "nodes": mid},
-        "tpbf87_runs": {"dt": [1e-3, 1e-4], "t_end": TPBF87_T, "perturbation": 1e-6, "gamma": 8.0}})
+#: kind of case -> the function that runs it
+RUNS = {"scene": _scene, "arc": _arc, "relax": _relax, "elastica": _elastica, "tpbf87": _tpbf87}
 
-    # 1. the curling strip by equilibrium
+
+def run_case(case: Case) -> dict:
+    return RUNS[case.kind](case)
+
+
+def _report_arc(res, raw: dict, grids: dict) -> list[Line]:
+    """1. The curling strip by equilibrium: the tip's error under refinement, each backend and sign of kappa."""
     theory = {"fd": (2.0, (0.3, 0.3)), "fe": (4.0, (0.3, 2.0))}
     rows, lines = [], []
     for b in ("fd", "fe"):
@@ -213,8 +220,11 @@ def fill(res, levels: int, runner) -> None:
     res.tables.append(Table("arc", "Curling strip: tip at equilibrium against the arc of radius 1/kappa",
                             ("backend", "kappa", "nodes along", "h", "x", "y", "z", "max error", "pairwise order",
                              "Newton iterations"), rows))
+    return lines
 
-    # 2. the same by damped time stepping
+
+def _report_relax(res, raw: dict, mid: int) -> None:
+    """2. The same by damped time stepping."""
     rows = []
     for kappa in KAPPAS:
         r = raw[Case("relax", mid, kappa, 0.05)]
@@ -227,9 +237,11 @@ def fill(res, levels: int, runner) -> None:
                             ("kappa", "nodes along", "status", "t (s)", "tip - equilibrium", "tip - arc",
                              "mean Newton iterations"), rows))
 
-    # 3. the elastica
+
+def _report_elastica(res, raw: dict, grids: dict) -> list[Line]:
+    """3. The elastica: the tip's error under refinement against the collocation reference."""
     u_ref, w_ref = elastica_tip(ELASTICA["load"])
-    rows = []
+    rows, lines = [], []
     for b in ("fd", "fe"):
         these = [raw[Case("elastica", n, backend=b)] for n in grids[b]]
         h = np.array([r["h"] for r in these])
@@ -254,8 +266,11 @@ def fill(res, levels: int, runner) -> None:
     res.findings.append("FE elastica: the levels are pre-asymptotic (pairwise orders above 2) and the finest "
                         "error nears the axial-strain floor P/(8 eta W) = 1e-5 of the extensible strip; "
                         "so its order is reported, not checked.")
+    return lines
 
-    # 3b. the scenes far above the paper's xi limit
+
+def _report_scenes(res, raw: dict) -> None:
+    """3b. The scenes far above the paper's xi limit, under either force model."""
     rows = []
     for name in ("curtain", "flag"):
         for b in ("fd", "fe"):
@@ -276,21 +291,23 @@ def fill(res, levels: int, runner) -> None:
         "(within half the stretching bound), as the paper found above 1e-3; the variational model with "
         "implicit-Euler steps runs them at dt = 5e-3 s.")
 
-    # 4. the paper's force on the curling strip
+
+def _report_tpbf87(res, raw: dict, mid: int) -> None:
+    """4. The paper's force on the curling strip: ill-posed for xi kappa > 0, never curling for xi kappa < 0."""
     rows = []
     for kappa in KAPPAS:
         for dt in (1e-3, 1e-4):
             r = raw[Case("tpbf87", mid, kappa, dt)]
             rows.append((f"{kappa:+g}", dt, r["status"], r["t"], r["max_z"]))
         runs = [raw[Case("tpbf87", mid, kappa, dt)] for dt in (1e-3, 1e-4)]
+        observed = ", ".join(f"{r['status']} (max |z| {r['max_z']:.1e})" for r in runs)
         if kappa * STRIP["xi"] > 0:
             res.check(f"tpbf87, xi kappa > 0 (kappa = {kappa:+g})", "ill-posed: a 1e-6 bump grows for every dt",
-                      ", ".join(f"{r['status']} (max |z| {r['max_z']:.1e})" for r in runs),
-                      all(r["status"] == "diverged" or r["max_z"] > 1e-2 for r in runs))
+                      observed, all(r["status"] == "diverged" or r["max_z"] > 1e-2 for r in runs))
         else:
-            res.check(f"tpbf87, xi kappa < 0 (kappa = {kappa:+g})", "never curls: max |z| stays below 1e-5 (the arc tip is at 0.65)",
-                      ", ".join(f"{r['status']} (max |z| {r['max_z']:.1e})" for r in runs),
-                      all(r["status"] == "finished" and r["max_z"] < 1e-5 for r in runs))
+            res.check(f"tpbf87, xi kappa < 0 (kappa = {kappa:+g})",
+                      "never curls: max |z| stays below 1e-5 (the arc tip is at 0.65)",
+                      observed, all(r["status"] == "finished" and r["max_z"] < 1e-5 for r in runs))
     res.tables.append(Table("tpbf87", "The paper's force (14) on the same strip from flat + 1e-6 bump "
                             "(arc tip z would be (1 - cos(kappa L))/kappa)",
                             ("kappa", "dt (s)", "status", "t reached (s)", "max |z|"), rows))
@@ -298,10 +315,36 @@ def fill(res, levels: int, runner) -> None:
         "Under tpbf87 the flat strip's bending operator is -xi kappa times the biharmonic: for xi kappa > 0 the "
         "high modes grow without bound (the runs diverge whatever dt), for xi kappa < 0 the force (14) vanishes "
         "on the flat state and the strip never curls. The variational model curls to the arc for both signs.")
+
+
+def fill(res, levels: int, runner) -> None:
+    """Run the variational study over ``levels`` levels (11, 21, 41, ... nodes along the strip)."""
+    grids = {b: [nodes_at(k, COARSEST[b]) for k in range(levels)] for b in ("fd", "fe")}
+    sizes = grids["fd"]
+    mid = sizes[min(1, levels - 1)]
+    cases = ([Case("arc", n, k, backend=b) for b in ("fd", "fe") for k in KAPPAS for n in grids[b]]
+             + [Case("elastica", n, backend=b) for b in ("fd", "fe") for n in grids[b]]
+             + [Case("relax", mid, k, 0.05) for k in KAPPAS]
+             + [Case("tpbf87", mid, k, dt) for k in KAPPAS for dt in (1e-3, 1e-4)]
+             + [Case("scene", SCENE_NODES[b], dt=5e-3, backend=b, scene=name, force_model=fm)
+                for name in ("curtain", "flag") for b in ("fd", "fe") for fm in ("variational", "tpbf87")])
+    raw = dict(zip(cases, runner.map(run_case, cases, desc="variational")))
+    res.config.update({
+        "strip": STRIP, "kappas": list(KAPPAS), "elastica": ELASTICA, "nodes_along": grids,
+        "fd_weighting": "control-area (strip and elastica)",
+        "scenes": {"xi": SCENE_XI, "t_end": SCENE_T, "nodes": SCENE_NODES, "variational_dt": 5e-3,
+                   "tpbf87_dt": "half the backend's stretching bound"},
+        "relaxation": {"gamma": 8.0, "dt": 0.05, "t_end": RELAX_T, "nodes": mid},
+        "tpbf87_runs": {"dt": [1e-3, 1e-4], "t_end": TPBF87_T, "perturbation": 1e-6, "gamma": 8.0}})
+    lines = _report_arc(res, raw, grids)
+    _report_relax(res, raw, mid)
+    lines += _report_elastica(res, raw, grids)
+    _report_scenes(res, raw)
+    _report_tpbf87(res, raw, mid)
     res.figures.append(Figure("variational", "Tip errors of the variational model against closed forms",
                               (Panel("Curling strip and elastica", "node spacing h along the "
                                      "strip (m)", "max tip error (m; elastica: / L)", tuple(lines), (1.0, 3.0)),)))
 
 
-STUDY = Study('variational', "the exact gradient of eq. (13): curling strip, cantilever elastica, and the paper's force beside it",
-              Levels(quick=3, full=5, minimum=3, maximum=6), fill)
+STUDY = Study('variational', "the exact gradient of eq. (13): curling strip, cantilever elastica, and the paper's "
+              "force beside it", Levels(quick=3, full=5, minimum=3, maximum=6), fill)

@@ -42,6 +42,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from validation.harness.backends import BACKENDS
+from validation.harness.study import Figure, Table
+
 from .analysis import classify
 from .cases import RUNAWAY_G, scene_grids
 from .claims import Claim, checks_of
@@ -198,9 +201,34 @@ def measure(res, R: dict, s: dict) -> list:
     (section 5's) and at the shipped flag's xi, judges the claim where its runs reach the end of the analysis
     window, and is named as not judged where they do not (:func:`paper_force_claim`).
     """
-    from validation.harness.backends import BACKENDS
-    from validation.harness.study import Figure, Table
+    P, runs, rows = _phases(R, s)
+    cfg = R[("flag", "fd", "variational")]["config"]
+    lo, hi = window(s["s5_t"], cfg["ramp"], cfg["frequency"])
+    res.tables.append(_table(rows, cfg, (lo, hi)))
+    V = {b: next(p for (b_, fm, _), p in P.items() if b_ == b and fm == "variational") for b in BACKENDS}
+    _check_waves(res, V, cfg["size"][0])
+    res.data["flag"] = {f"{b}|{fm}|{xi:g}": dict(runs[(b, fm, xi)], measured=p is not None, **(
+        dict(change=p.change, speed=p.speed, direction=p.direction, a=p.a, phase=p.phase, amplitude=p.amplitude)
+        if p else {})) for (b, fm, xi), p in P.items()}
+    res.findings.append(
+        "Section 5, flag: " + "; ".join(
+            f"{b.upper()} {fm} xi = {xi:g}: " + (f"phase change {p.change:+.2f} rad, phase speed {p.speed:.2f} m/s "
+                                                 f"{p.direction}" if p else
+                                                 f"{stopped(runs[(b, fm, xi)])}, not measured")
+            for (b, fm, xi), p in P.items())
+        + ". The coils shake the flag beside the pole and the flow's pull puts it in a tension that falls to nothing "
+          "at the free edge: the waves travel from the pole to the free edge, slowing and growing on the way "
+          "(deformable.scenes, 'flag').")
+    res.figures.append(_phase_figure(P, cfg["frequency"]))
+    c = paper_force_claim(V, {(b, xi): (p, runs[(b, fm, xi)]) for (b, fm, xi), p in P.items() if fm == "tpbf87"},
+                          (lo, hi))
+    return [Claim("Figs 7-8: a coil force on one side makes the flag wave", "5", c["measured"], literal=c["literal"],
+                  checks=checks_of(res, "section 5, flag"), holds_when=c["holds_when"], not_judged=c["not_judged"])]
 
+
+def _phases(R: dict, s: dict) -> tuple[dict, dict, list]:
+    """The flag's runs, energy-consistent first, by (backend, force model, xi): their phase profiles (None where
+    not measured), their records as :func:`stopped` takes them, and the rows of the flag table."""
     n = dict(zip(BACKENDS, scene_grids(s, "flag")))
     P, runs, rows = {}, {}, []
     keys = sorted((k for k in R if k[0] == "flag"), key=lambda k: (BACKENDS.index(k[1]), k[2] != "variational",
@@ -215,9 +243,12 @@ def measure(res, R: dict, s: dict) -> list:
         rows.append((b.upper(), grid, fm, xi, classify(r), r["t"], r["dt"], r.get("Gmax", math.nan),
                      p.change if p else math.nan, p.speed if p else math.nan, p.direction if p else "not measured",
                      float(np.nanmax(p.amplitude)) if p else math.nan))
-    cfg = R[("flag", "fd", "variational")]["config"]
-    lo, hi = window(s["s5_t"], cfg["ramp"], cfg["frequency"])
-    res.tables.append(Table(
+    return P, runs, rows
+
+
+def _table(rows: list, cfg: dict, window_: tuple) -> Table:
+    lo, hi = window_
+    return Table(
         "flag", "Section 5 (Figs 7-8): the flag's wave, phase of the driving component along the middle row",
         ("backend", "grid", "force model", "xi (N m)", "class", "t reached (s)", "dt (s)", "max G_ii (sampled)",
          "phase change pole to tip (rad)", "phase speed (m/s)", "wave travels", "largest amplitude (m)"), rows,
@@ -228,8 +259,11 @@ def measure(res, R: dict, s: dict) -> list:
              f"{AMPLITUDE_FLOOR:.0%} of the largest amplitude; phase speed w / |d phi / d a1| (m/s along the flag; "
              "module docstring of validation.studies.paper.flag). The paper's force (tpbf87) at xi = 0 (section 5's) "
              "and at the shipped flag's xi; 'max G_ii (sampled)': every 0.1 s; a run that stops before the window "
-             "ends is not measured."))
-    V = {b: next(p for (b_, fm, _), p in P.items() if b_ == b and fm == "variational") for b in BACKENDS}
+             "ends is not measured.")
+
+
+def _check_waves(res, V: dict, length: float) -> None:
+    """The checks of the energy-consistent flag: ``V`` {backend: PhaseProfile or None}, ``length`` L1 (m)."""
     res.check_all("section 5, flag: a travelling wave on both backends",
                   "the driving component's phase changes by more than pi from pole to tip (energy-consistent model)",
                   {f"{b.upper()} ({abs(V[b].change):.2f} rad)" if V[b] else
@@ -241,7 +275,6 @@ def measure(res, R: dict, s: dict) -> list:
                    if V[b] else f"{b.upper()} (run did not finish)":
                    bool(V[b]) and V[b].direction == "towards the tip"
                    for b in BACKENDS})
-    length = cfg["size"][0]
     res.check_all(f"section 5, flag: waves at least {AMPLITUDE_TIP:g} of the flag's length at its free edge",
                   f"the driving component's amplitude at the tip >= {AMPLITUDE_TIP:g} L1 = "
                   f"{AMPLITUDE_TIP * length:g} m "
@@ -249,18 +282,10 @@ def measure(res, R: dict, s: dict) -> list:
                   {f"{b.upper()} ({V[b].amplitude[-1]:.3f} m)" if V[b] else
                    f"{b.upper()} (run did not finish)": bool(V[b]) and
                    V[b].amplitude[-1] >= AMPLITUDE_TIP * length for b in BACKENDS})
-    res.data["flag"] = {f"{b}|{fm}|{xi:g}": dict(runs[(b, fm, xi)], measured=p is not None, **(
-        dict(change=p.change, speed=p.speed, direction=p.direction, a=p.a, phase=p.phase, amplitude=p.amplitude)
-        if p else {})) for (b, fm, xi), p in P.items()}
-    res.findings.append(
-        "Section 5, flag: " + "; ".join(
-            f"{b.upper()} {fm} xi = {xi:g}: " + (f"phase change {p.change:+.2f} rad, phase speed {p.speed:.2f} m/s "
-                                                 f"{p.direction}" if p else
-                                                 f"{stopped(runs[(b, fm, xi)])}, not measured")
-            for (b, fm, xi), p in P.items())
-        + ". The coils shake the flag beside the pole and the flow's pull puts it in a tension that falls to nothing "
-          "at the free edge: the waves travel from the pole to the free edge, slowing and growing on the way "
-          "(deformable.scenes, 'flag').")
+
+
+def _phase_figure(P: dict, frequency: float) -> Figure:
+    """Phase lag and amplitude along the flag of every measured run (``P`` as :func:`_phases` gives it)."""
     style = {"fd": "tab:blue", "fe": "tab:orange"}
     phase_lines, amp_lines = [], []
     for (b, fm, xi), p in P.items():
@@ -269,15 +294,11 @@ def measure(res, R: dict, s: dict) -> list:
         st = "-" if fm == "variational" else "--"
         phase_lines.append(dict(x=p.a, y=p.phase, style=st, color=style[b], label=f"{b.upper()} {fm} xi={xi:g}"))
         amp_lines.append(dict(x=p.a, y=p.amplitude, style=st, color=style[b], label=f"{b.upper()} {fm} xi={xi:g}"))
-    res.figures.append(Figure("flag_phase", "Section 5: the flag's driving component along the middle row, pole (0) "
-                              "to tip: phase lag (left; increasing towards the tip = a wave travelling towards the "
-                              "tip) and amplitude (right)",
-                              image=panels_figure([
-                                  dict(title=f"phase lag of the {cfg['frequency']:g} Hz component", xlabel="a1 (m)",
-                                       ylabel="phi (rad)", lines=phase_lines),
-                                  dict(title="amplitude", xlabel="a1 (m)", ylabel="R (m)", lines=amp_lines)],
-                                  "The flag's wave")))
-    c = paper_force_claim(V, {(b, xi): (p, runs[(b, fm, xi)]) for (b, fm, xi), p in P.items() if fm == "tpbf87"},
-                          (lo, hi))
-    return [Claim("Figs 7-8: a coil force on one side makes the flag wave", "5", c["measured"], literal=c["literal"],
-                  checks=checks_of(res, "section 5, flag"), holds_when=c["holds_when"], not_judged=c["not_judged"])]
+    return Figure("flag_phase", "Section 5: the flag's driving component along the middle row, pole (0) "
+                  "to tip: phase lag (left; increasing towards the tip = a wave travelling towards the "
+                  "tip) and amplitude (right)",
+                  image=panels_figure([
+                      dict(title=f"phase lag of the {frequency:g} Hz component", xlabel="a1 (m)",
+                           ylabel="phi (rad)", lines=phase_lines),
+                      dict(title="amplitude", xlabel="a1 (m)", ylabel="R (m)", lines=amp_lines)],
+                      "The flag's wave"))

@@ -48,6 +48,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from deformable import scenes
+from validation.harness.backends import BACKENDS
+from validation.harness.study import Figure, Table
+
 from .analysis import classify
 from .cases import ROWS, SAMPLE_EVERY, SAMPLES, grid_label, scene_grids
 from .claims import Claim, checks_of
@@ -56,7 +60,7 @@ from .pictures import panels_figure
 __all__ = ["ROWS", "SAMPLES", "DELTA_FRACTION", "DELTA_MIN", "SAMPLE_EVERY", "LATE", "extrema", "RowFolds",
            "row_folds", "snapshot_folds", "fold_series", "late_folds", "power_fit", "exponent_fit",
            "wavelength_exponent", "count_exponent", "narrowest_check", "EXPONENT_WINDOW", "WAVELENGTH_WINDOW",
-           "NARROWEST", "COUNT_SPAN"]
+           "NARROWEST", "COUNT_SPAN", "FoldRuns"]
 
 #: hysteresis: a fold must rise (fall) by this fraction of the row's peak-to-peak ...
 DELTA_FRACTION = 0.1
@@ -255,8 +259,6 @@ STRETCH_TIME, STRETCH_MEDIAN, STRETCH_LARGEST = 1.0, 0.02, 0.05
 def theory_ratio() -> float:
     """The fold wavelength of ``paper`` over ``curtain-silky`` by the bending-length theory (module docstring):
     ((xi / mu) of paper over the silky curtain's)^(1/4), their warps' (1)."""
-    from deformable import scenes
-
     cp, cs = scenes.config("paper"), scenes.config("curtain-silky")
     return float(((cp.xi / cp.mu) / (cs.xi / cs.mu)) ** 0.25)
 
@@ -324,18 +326,57 @@ def measure(res, R: dict, s: dict) -> list:
     (docs/design.md, "Three readings"; claim 3), so nothing in it sets a fold width. Its runs judge the claim
     where they finish; the runs that diverge are named as not judged, with when they stopped.
     """
-    from deformable import scenes
-    from validation.harness.backends import BACKENDS
-    from validation.harness.study import Table
+    runs = FoldRuns(R, s)
+    _tables(res, runs)
+    fits = _sweep_checks(res, runs)
+    _narrowest_checks(res, runs)
+    _agreement_check(res, runs)
+    _sheet_checks(res, runs)
+    ratio, expected = _ratio_check(res, runs)
+    _findings(res, runs, fits, ratio, expected)
+    _figures(res, runs, fits)
+    checks = checks_of(res, "section 5, curtain folds") + checks_of(res, "section 5, paper against")
+    c = curtain_claim(fits, ratio, {(k[2], k[4]): dict(status=r["status"], t=r["t"], steps=r["steps"], Gmax=r["Gmax"],
+                                                        count=f["count"], narrowest_h=f["ever_narrowest_h"],
+                                                        width_h=f["width_h"])
+                                    for k, (r, f) in runs.paper_force.items()})
+    return [Claim("Figs 3-6: the curtain drawn open folds; scaled parameters and xi = 3e-6 change its folds", "5",
+                  c["measured"], literal=c["literal"], checks=checks, holds_when=c["holds_when"],
+                  not_judged=c["not_judged"])]
 
 
-    def grid(b, scene="curtain"):
-        return grid_label(b, dict(zip(BACKENDS, scene_grids(s, scene)))[b])
+class FoldRuns:
+    """Section 5's fold runs, ``R``'s ("folds", scene, backend, force model, xi) in the study's order, with their
+    fold measures (:func:`run_folds`) and the groups the report takes them in.
 
-    keys = [k for k in R if k[0] == "folds"]
-    F = {k: run_folds(R[k]) for k in keys}
+    ``keys``: the runs; ``F``: {key: fold measure}; ``var``: the energy-consistent runs' measures; ``swept``: the
+    curtain's xi sweep among them; ``sweep``: {backend: [(xi, measure)]} of the sweep, by xi; ``sheets``: the runs
+    of curtain-silky and paper at their own xi (Figs 5-6); ``paper_force``: {key: (run, measure)} under the
+    paper's force (14).
+    """
+
+    def __init__(self, R: dict, s: dict):
+        self.R, self.s = R, s
+        self.keys = [k for k in R if k[0] == "folds"]
+        self.F = {k: run_folds(R[k]) for k in self.keys}
+        self.var = {k: self.F[k] for k in self.keys if k[3] == "variational"}
+        self.swept = {k: f for k, f in self.var.items() if k[1] == "curtain"}
+        self.sweep = {b: [(k[4], self.F[k]) for k in sorted(self.var) if k[1] == "curtain" and k[2] == b]
+                      for b in BACKENDS}
+        self.sheets = {k: R[k] for k in self.var if k[1] in ("curtain-silky", "paper")
+                       and k[4] == scenes.config(k[1]).xi}
+        self.paper_force = {k: (R[k], self.F[k]) for k in self.keys if k[3] == "tpbf87"}
+
+    def grid(self, b: str, scene: str = "curtain") -> str:
+        """The grid of a scene's runs on backend ``b``, as the report names it."""
+        return grid_label(b, dict(zip(BACKENDS, scene_grids(self.s, scene)))[b])
+
+
+def _tables(res, runs: FoldRuns) -> None:
+    """The folds of every run, late and over time."""
+    R, F, s = runs.R, runs.F, runs.s
     rows = []
-    for k in keys:
+    for k in runs.keys:
         _, sc, b, fm, xi = k
         r, f = R[k], F[k]
         n = dict(zip(BACKENDS, scene_grids(s, sc)))[b]
@@ -359,7 +400,7 @@ def measure(res, R: dict, s: dict) -> list:
              "'narrowest, ever': over every snapshot (each 0.1 s) of the run, and where those narrower than "
              f"{NARROWEST:g} h sit along a1 (the rod is drawn from a1 = L1); h: the grid spacing along a1."))
     series_rows = [(k[1], k[2].upper(), k[3], k[4], p["t"], p["count"], p["width"] / R[k]["h"],
-                    p["narrowest"] / R[k]["h"], p["ptp"]) for k in keys for p in F[k]["series"]]
+                    p["narrowest"] / R[k]["h"], p["ptp"]) for k in runs.keys for p in F[k]["series"]]
     res.tables.append(Table("folds_over_time", "Section 5: the folds over time (every 0.1 s)",
                             ("scene", "backend", "force model", "xi (N m)", "t (s)", "folds", "fold width (h)",
                              "narrowest (h)", "largest peak-to-peak (m)"), series_rows,
@@ -367,26 +408,30 @@ def measure(res, R: dict, s: dict) -> list:
                                  f"rows). Before the folds grow past the hysteresis ({1e3 * DELTA_MIN:g} mm) a row has "
                                  "none."))
 
-    var = {k: F[k] for k in keys if k[3] == "variational"}
-    sweep = {b: [(k[4], F[k]) for k in sorted(var) if k[1] == "curtain" and k[2] == b] for b in BACKENDS}
+
+def _sweep_checks(res, runs: FoldRuns) -> dict:
+    """The energy-consistent runs stay bounded; the fold wavelength and count against xi over the curtain's sweep.
+    Returns the fits, {backend: dict(p, p_wavelength, p_wavelength_se, counts, prefactor, spread)}."""
+    R = runs.R
     res.check_all("section 5, curtain folds: the energy-consistent runs stay bounded",
                   "every run of the shipped curtain scenes finishes, with no fibre stretched past twice its length",
                   {f"{k[1]} {k[2].upper()} xi = {k[4]:g}": R[k]["status"] == "finished" and classify(R[k]) == "bounded"
-                   for k in var})
+                   for k in runs.var})
     fits = {}
     for b in BACKENDS:
-        xis = [xi for xi, _ in sweep[b]]
-        counts = [f["count"] for _, f in sweep[b]]
-        lams = [f["wavelength"] for _, f in sweep[b]]
+        sweep = runs.sweep[b]
+        xis = [xi for xi, _ in sweep]
+        counts = [f["count"] for _, f in sweep]
+        lams = [f["wavelength"] for _, f in sweep]
         ok_w, obs_w, pw, se_w = wavelength_exponent(xis, lams)
         ok_c, obs_c, p = count_exponent(xis, counts)
-        pref = [f["prefactor"] for _, f in sweep[b] if np.isfinite(f["prefactor"])]
+        pref = [f["prefactor"] for _, f in sweep if np.isfinite(f["prefactor"])]
         C = float(np.exp(np.mean(np.log(pref)))) if pref else math.nan
         fits[b] = dict(p=p, p_wavelength=pw, p_wavelength_se=se_w, counts=counts, prefactor=C,
                        spread=(min(pref), max(pref)) if pref else (math.nan,) * 2)
         lo, hi = WAVELENGTH_WINDOW
         where = (f"{len(xis)} values of xi from {min(xis, default=math.nan):g} to {max(xis, default=math.nan):g} N m, "
-                 f"{grid(b)}")
+                 f"{runs.grid(b)}")
         res.check(f"section 5, curtain folds: {b.upper()} fold wavelength against xi",
                   f"lambda ~ xi^p with p in [{lo:g}, {hi:g}] around the bending-length theory's 1/4, its standard "
                   f"error at most {(hi - lo) / 2:.2f} ({where})", obs_w, ok_w)
@@ -395,20 +440,26 @@ def measure(res, R: dict, s: dict) -> list:
                   f"count ~ xi^p with p in [{lo:g}, {hi:g}] around the theory's -1/4, fitted only to counts that "
                   f"take at least {COUNT_SPAN[0]} values with the largest at least {COUNT_SPAN[1]:g} times the "
                   f"smallest ({where})", obs_c, ok_c)
-    swept = {k: f for k, f in var.items() if k[1] == "curtain"}
+    return fits
+
+
+def _narrowest_checks(res, runs: FoldRuns) -> None:
+    """No fold of the curtain's sweep narrower than :data:`NARROWEST` grid spacings, ever; the energy-consistent
+    runs outside the sweep that have one, as a finding."""
+    F, swept = runs.F, runs.swept
     ok_n, obs_n = narrowest_check({f"{k[2].upper()} xi = {k[4]:g}": F[k]["ever_narrowest_h"] for k in sorted(swept)},
                                   NARROWEST)
     below = [f"{k[2].upper()} xi = {k[4]:g} below {NARROWEST:g} h in {F[k]['below']} of {len(F[k]['series'])} "
              f"snapshots, at a1 = {F[k]['below_at'][0]:.2f} to {F[k]['below_at'][1]:.2f} m" for k in sorted(swept)
              if F[k]["below"]]
-    swept_runs = ", ".join(sorted({grid(k[2]) for k in swept})) + "; xi = " + ", ".join(
+    swept_runs = ", ".join(sorted({runs.grid(k[2]) for k in swept})) + "; xi = " + ", ".join(
         f"{x:g}" for x in sorted({k[4] for k in swept}))
     res.check(f"section 5, curtain folds: never narrower than {NARROWEST:g} grid spacings",
               f"the narrowest fold (consecutive extrema) over every row of every snapshot (each {SAMPLE_EVERY:g} s) "
               f"at least {NARROWEST:g} h wide, in each of the {len(swept)} energy-consistent runs of the curtain's xi "
               f"sweep ({swept_runs}); curtain-silky and paper: the check below", obs_n + (
                   f" ({'; '.join(below)})" if below else ""), ok_n)
-    narrow = [k for k in var if k not in swept and np.isfinite(F[k]["ever_narrowest_h"])
+    narrow = [k for k in runs.var if k not in swept and np.isfinite(F[k]["ever_narrowest_h"])
               and not at_least(F[k]["ever_narrowest_h"], NARROWEST)]
     if narrow:
         cfg = scenes.config("curtain")
@@ -418,10 +469,14 @@ def measure(res, R: dict, s: dict) -> list:
             + "; ".join(f"{k[1]} {k[2].upper()} xi = {k[4]:g}: {F[k]['count']:g} folds, narrowest "
                         f"{F[k]['ever_narrowest_h']:.1f} h at a1 = {F[k]['below_at'][0]:.2f} to "
                         f"{F[k]['below_at'][1]:.2f} m, median fold width {F[k]['width_h']:.1f} h, bending length "
-                        f"{F[k]['theory']:.3f} m = {F[k]['theory'] / R[k]['h']:.1f} h" for k in sorted(narrow))
+                        f"{F[k]['theory']:.3f} m = {F[k]['theory'] / runs.R[k]['h']:.1f} h" for k in sorted(narrow))
             + f". The rod's drawn end gathers the cloth over a1 = {(1 - cfg.gather) * cfg.size[0]:g} to "
             f"{cfg.size[0]:g} m; docs/design.md (Findings) has the folds under refinement.")
-    agree = {}
+
+
+def _agreement_check(res, runs: FoldRuns) -> None:
+    """FD and FE fold wavelengths agree over the curtain's sweep."""
+    swept, agree = runs.swept, {}
     for k in swept:
         if k[2] != "fd":
             continue
@@ -433,9 +488,13 @@ def measure(res, R: dict, s: dict) -> list:
     res.check_all("section 5, curtain folds: FD and FE fold wavelengths agree",
                   f"late fold wavelengths within {COUNT_TOLERANCE:.0%} of the larger for each xi of the curtain's "
                   "sweep (the wavelength, not the count: counts of 1 to 3 always agree within one fold)", agree)
-    # Figs 5-6 as the paper describes them: light (silky) and stiff (paper) sheets with little stretching
-    shipped = {k: R[k] for k in var if k[1] in ("curtain-silky", "paper") and k[4] == scenes.config(k[1]).xi}
-    at_1s = {k: min(r["stretch"], key=lambda m: abs(m[0] - STRETCH_TIME)) for k, r in shipped.items() if r["stretch"]}
+
+
+def _sheet_checks(res, runs: FoldRuns) -> None:
+    """Figs 5-6 as the paper describes them: light (silky) and stiff (paper) sheets with little stretching, and
+    their folds resolved."""
+    F, sheets = runs.F, runs.sheets
+    at_1s = {k: min(r["stretch"], key=lambda m: abs(m[0] - STRETCH_TIME)) for k, r in sheets.items() if r["stretch"]}
     res.check_all(f"section 5, Figs 5-6: little stretching at t = {STRETCH_TIME:g} s",
                   f"curtain-silky and paper on their grids, both backends: median fibre stretch <= "
                   f"{STRETCH_MEDIAN:.0%}, largest <= {STRETCH_LARGEST:.0%} (every grid segment against its rest "
@@ -443,17 +502,23 @@ def measure(res, R: dict, s: dict) -> list:
                   {f"{k[1]} {k[2].upper()} (median {m[1]:.2%}, largest {m[2]:.2%} at t = {m[0]:g} s)":
                    abs(m[0] - STRETCH_TIME) < 1e-6 + SAMPLE_EVERY / 2 and m[1] <= STRETCH_MEDIAN
                    and m[2] <= STRETCH_LARGEST
-                   for k, m in at_1s.items()} if len(at_1s) == len(shipped) else {})
-    ok_s, obs_s = narrowest_check({f"{k[1]} {k[2].upper()}": F[k]["narrowest_h"] for k in sorted(shipped)}, NARROWEST)
+                   for k, m in at_1s.items()} if len(at_1s) == len(sheets) else {})
+    ok_s, obs_s = narrowest_check({f"{k[1]} {k[2].upper()}": F[k]["narrowest_h"] for k in sorted(sheets)}, NARROWEST)
+    grids = ", ".join(sorted({runs.grid(k[2], k[1]) for k in sheets}))
     res.check(f"section 5, Figs 5-6: folds at least {NARROWEST:g} grid spacings wide",
-              f"curtain-silky and paper at their own xi ({', '.join(sorted({grid(k[2], k[1]) for k in shipped}))}): "
+              f"curtain-silky and paper at their own xi ({grids}): "
               f"the narrowest fold over every row of the snapshots of the last {LATE:g} s at least {NARROWEST:g} h "
               "wide", obs_s, ok_s)
-    res.data["stretch"] = {"|".join(map(str, k)): R[k]["stretch"] for k in shipped}
+    res.data["stretch"] = {"|".join(map(str, k)): runs.R[k]["stretch"] for k in sheets}
+
+
+def _ratio_check(res, runs: FoldRuns) -> tuple[dict, dict]:
+    """Paper against curtain-silky: the ratio of their fold wavelengths against the theory's. Returns the measured
+    and the expected ratios by backend."""
     ratio, expected = {}, {}
     for b in BACKENDS:
-        silky = var.get(("folds", "curtain-silky", b, "variational", scenes.config("curtain-silky").xi))
-        paper = var.get(("folds", "paper", b, "variational", scenes.config("paper").xi))
+        silky = runs.var.get(("folds", "curtain-silky", b, "variational", scenes.config("curtain-silky").xi))
+        paper = runs.var.get(("folds", "paper", b, "variational", scenes.config("paper").xi))
         if silky and paper:
             ratio[b] = paper["wavelength"] / silky["wavelength"]
             expected[b] = paper["theory"] / silky["theory"]
@@ -464,54 +529,45 @@ def measure(res, R: dict, s: dict) -> list:
                   f"window, {xr:.3g} = (xi / mu) of paper over the silky curtain's (theory: {xr:.3g}^(1/4) = "
                   f"{xr ** 0.25:.3g})",
                   {f"{b.upper()} ({ratio[b]:.2f})": lo <= ratio[b] <= hi and np.isfinite(ratio[b]) for b in ratio})
+    return ratio, expected
+
+
+def _findings(res, runs: FoldRuns, fits: dict, ratio: dict, expected: dict) -> None:
+    """The folds' numbers (results.json), the fits against the theory and the curtain under the paper's force."""
+    F = runs.F
     res.data["folds"] = dict(fits=fits, ratio=ratio, expected_ratio=expected,
                              runs={"|".join(map(str, k)): {x: F[k][x] for x in ("count", "width", "wavelength",
                                                                                   "theory",
                                                                                   "prefactor", "narrowest_h",
-                                                                                  "ever_narrowest_h")} for k in keys})
+                                                                                  "ever_narrowest_h")}
+                                   for k in runs.keys})
     for b in BACKENDS:
         f = fits[b]
         res.findings.append(
-            f"Section 5, curtain folds ({grid(b)}): lambda ~ xi^{f['p_wavelength']:.2f} +- "
+            f"Section 5, curtain folds ({runs.grid(b)}): lambda ~ xi^{f['p_wavelength']:.2f} +- "
             f"{f['p_wavelength_se']:.2f} (theory 1/4); counts {', '.join(format(c, 'g') for c in f['counts'])}"
             + (f" ~ xi^{f['p']:.2f} (theory -1/4)" if np.isfinite(f["p"]) else " (too few distinct to fit)")
             + f"; lambda = {f['prefactor']:.2f} x (D H / (mu g))^(1/4) "
             f"(geometric mean over the sweep; from {f['spread'][0]:.2f} to {f['spread'][1]:.2f}); paper / silky "
             f"wavelength ratio {ratio.get(b, math.nan):.2f} (theory {expected.get(b, math.nan):.2f}).")
-    paper_force = {k: (R[k], F[k]) for k in keys if k[3] == "tpbf87"}
     res.findings.append(
         "Section 5, the curtain under the paper's force (14), the same scene otherwise: "
         + "; ".join(f"{k[2].upper()} xi = {k[4]:g}: {classify(r)} (t = {r['t']:.3g} s, step {r['steps']}, max G_ii "
                     f"{r['Gmax']:.2f}), {f['count']:g} folds, narrowest {f['ever_narrowest_h']:.1f} h, fold width "
-                    f"{f['width_h']:.1f} h, depth {f['depth']:.3f} m" for k, (r, f) in sorted(paper_force.items()))
+                    f"{f['width_h']:.1f} h, depth {f['depth']:.3f} m" for k, (r, f) in sorted(runs.paper_force.items()))
         + ". At xi = 0 the force has no bending stiffness and nothing sets a fold width; at xi > 0 its bending "
         "stiffness xi B is negative where B < 0 (claim 3; docs/design.md, 'Three readings').")
 
-    # figures: count and lambda against xi, the theory beside; the count over time
-    style = {("fd", "variational"): ("o-", "tab:blue"), ("fe", "variational"): ("s-", "tab:orange"),
-             ("fd", "tpbf87"): ("o--", "tab:cyan"), ("fe", "tpbf87"): ("s--", "tab:red")}
-    count_lines, lambda_lines = [], []
-    for b in BACKENDS:
-        for fm in ("variational", "tpbf87"):
-            pts = sorted((k[4], F[k]) for k in keys if k[1] == "curtain" and k[2] == b and k[3] == fm
-                         and k[4] > 0)  # log axes: xi = 0 (and its bending length 0) in the tables only
-            st, col = style[(b, fm)]
-            count_lines.append(dict(x=[x for x, _ in pts], y=[f["count"] for _, f in pts], label=f"{b.upper()} {fm}",
-                                    style=st, color=col))
-            lambda_lines.append(dict(x=[f["theory"] for _, f in pts], y=[f["wavelength"] for _, f in pts],
-                                     label=f"{b.upper()} {fm}", style=st, color=col))
-        counts = [f["count"] for _, f in sweep[b] if f["count"] > 0]
-        if counts:  # the theory's slope through the centre of the measured counts
-            xs = np.array(s["fold_xis"], float)
-            centre = np.exp(np.mean(np.log(xs)))
-            count_lines.append(dict(x=xs, y=np.exp(np.mean(np.log(counts))) * (xs / centre) ** -0.25, style=":",
-                                    color=style[(b, "variational")][1], label=f"{b.upper()}: slope -1/4 (theory)"))
-    for sc in ("curtain-silky", "paper"):
-        for b in BACKENDS:
-            k = ("folds", sc, b, "variational", scenes.config(sc).xi)
-            if k in F:
-                lambda_lines.append(dict(x=[F[k]["theory"]], y=[F[k]["wavelength"]], label=f"{sc} {b.upper()}",
-                                         style="^" if sc == "paper" else "v", color=style[(b, "variational")][1]))
+
+#: the lines of the fold figures, by (backend, force model): (matplotlib style, colour)
+STYLE = {("fd", "variational"): ("o-", "tab:blue"), ("fe", "variational"): ("s-", "tab:orange"),
+         ("fd", "tpbf87"): ("o--", "tab:cyan"), ("fe", "tpbf87"): ("s--", "tab:red")}
+
+
+def _figures(res, runs: FoldRuns, fits: dict) -> None:
+    """The figures: count and lambda against xi, the theory beside; the count over time."""
+    count_lines, lambda_lines = _xi_lines(runs)
+    F = runs.F
     th = np.array([min(f["theory"] for f in F.values() if f["theory"] > 0),
                    max(f["theory"] for f in F.values() if f["theory"] > 0)])
     C = fits["fd"]["prefactor"]
@@ -519,13 +575,11 @@ def measure(res, R: dict, s: dict) -> list:
         lambda_lines.append(dict(x=th, y=C * th, style=":", color="0.3",
                                  label=f"lambda = {C:.2f} x bending length (FD fit)"))
     time_lines = []
-    for k in sorted(var):
+    for k in sorted(runs.var):
         ser = F[k]["series"]
         time_lines.append(dict(x=[p["t"] for p in ser], y=[p["count"] for p in ser],
                                style="-" if k[2] == "fd" else "--",
                                label=f"{k[1]} {k[2].upper()} xi={k[4]:g}"))
-    from validation.harness.study import Figure
-
     res.figures.append(Figure("folds_xi", "Section 5: the curtain's folds against xi (left) and its fold wavelength "
                               "against the bending length (D H / (mu g))^(1/4) (right), FD and FE, both force models",
                               image=panels_figure([
@@ -540,14 +594,35 @@ def measure(res, R: dict, s: dict) -> list:
                               image=panels_figure([dict(title="folds (median over rows)", xlabel="t (s)",
                                                         ylabel="fold count (1)", lines=time_lines, integer=True)],
                                                  "Folds over time", width=8.0, height=4.2)))
-    checks = checks_of(res, "section 5, curtain folds") + checks_of(res, "section 5, paper against")
-    c = curtain_claim(fits, ratio, {(k[2], k[4]): dict(status=R[k]["status"], t=R[k]["t"], steps=R[k]["steps"],
-                                                        Gmax=R[k]["Gmax"], count=f["count"],
-                                                        narrowest_h=f["ever_narrowest_h"], width_h=f["width_h"])
-                                    for k, (r, f) in paper_force.items()})
-    return [Claim("Figs 3-6: the curtain drawn open folds; scaled parameters and xi = 3e-6 change its folds", "5",
-                  c["measured"], literal=c["literal"], checks=checks, holds_when=c["holds_when"],
-                  not_judged=c["not_judged"])]
+
+
+def _xi_lines(runs: FoldRuns) -> tuple[list, list]:
+    """The lines of the curtain's count against xi (with the theory's slope) and of every run's lambda against its
+    bending length."""
+    F, keys = runs.F, runs.keys
+    count_lines, lambda_lines = [], []
+    for b in BACKENDS:
+        for fm in ("variational", "tpbf87"):
+            pts = sorted((k[4], F[k]) for k in keys if k[1] == "curtain" and k[2] == b and k[3] == fm
+                         and k[4] > 0)  # log axes: xi = 0 (and its bending length 0) in the tables only
+            st, col = STYLE[(b, fm)]
+            count_lines.append(dict(x=[x for x, _ in pts], y=[f["count"] for _, f in pts], label=f"{b.upper()} {fm}",
+                                    style=st, color=col))
+            lambda_lines.append(dict(x=[f["theory"] for _, f in pts], y=[f["wavelength"] for _, f in pts],
+                                     label=f"{b.upper()} {fm}", style=st, color=col))
+        counts = [f["count"] for _, f in runs.sweep[b] if f["count"] > 0]
+        if counts:  # the theory's slope through the centre of the measured counts
+            xs = np.array(runs.s["fold_xis"], float)
+            centre = np.exp(np.mean(np.log(xs)))
+            count_lines.append(dict(x=xs, y=np.exp(np.mean(np.log(counts))) * (xs / centre) ** -0.25, style=":",
+                                    color=STYLE[(b, "variational")][1], label=f"{b.upper()}: slope -1/4 (theory)"))
+    for sc in ("curtain-silky", "paper"):
+        for b in BACKENDS:
+            k = ("folds", sc, b, "variational", scenes.config(sc).xi)
+            if k in F:
+                lambda_lines.append(dict(x=[F[k]["theory"]], y=[F[k]["wavelength"]], label=f"{sc} {b.upper()}",
+                                         style="^" if sc == "paper" else "v", color=STYLE[(b, "variational")][1]))
+    return count_lines, lambda_lines
 
 
 def _stop(v: dict) -> str:
