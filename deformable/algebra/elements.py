@@ -1,10 +1,9 @@
-r"""Element matrices of a symmetric operator, each given by its upper triangle, summed on a fixed pattern.
+"""Element matrices of a symmetric operator, each given by its upper triangle, summed on a fixed pattern.
 
-With constant element tables (a uniform grid) the data of any coefficient
-field is one dense product and one scatter (:class:`SymmetricElements`); the
-scatter of element upper triangles into the CSR data is compiled
-(:func:`scatter_upper`, numba). Element load vectors go to the degrees of
-freedom through one sparse matrix (:func:`element_vectors`).
+With constant element tables (a uniform grid) the data of any coefficient field is one dense product and one scatter
+(:class:`SymmetricElements`); the scatter of element upper triangles into the CSR data is compiled
+(:func:`scatter_upper`, numba). Element load vectors go to the degrees of freedom through one sparse matrix
+(:func:`element_vectors`).
 """
 
 from __future__ import annotations
@@ -24,8 +23,8 @@ class SymmetricElements:
     Parameters
     ----------
     ldofs : int array (E, nl)
-        Global degrees of freedom of every element's nl local ones (FE: the 16
-        of a bicubic element; for a coordinate-blocked Hessian, 3 x 16).
+        Global degrees of freedom of every element's nl local ones (FE: the 16 of a bicubic element; for a
+        coordinate-blocked Hessian, 3 x 16).
     ndof : int
         Matrix size.
 
@@ -111,9 +110,9 @@ def element_vectors(ldofs: np.ndarray, ndof: int) -> sp.csr_matrix:
 
 @njit(cache=True)
 def scatter_upper(upper, first, second, data):
-    """Add element upper triangles (E, nu) into a CSR data array: entry k of element e at data[first[e, k]]
-    and, off the diagonal, at data[second[e, k]] too (second < 0 on the diagonal); first < 0: dropped (a held row
-    or column, :class:`deformable.algebra.upper.FreeUpper`)."""
+    """Add element upper triangles (E, nu) into a CSR data array: entry k of element e at data[first[e, k]] and, off
+    the diagonal, at data[second[e, k]] too (second < 0 on the diagonal); first < 0: dropped (a held row or column,
+    :class:`deformable.algebra.upper.FreeUpper`)."""
     E, nu = upper.shape
     for e in range(E):
         for k in range(nu):

@@ -1,17 +1,12 @@
-r"""Sparse matrices on fixed patterns: built once, refilled every step.
+"""Sparse matrices on fixed patterns: built once, refilled every step.
 
-Every matrix the time stepper factorises (the strength matrix K(r) of
-eq. (20), the step matrix A_t of eq. (25), the Hessians of the energy (13))
-keeps its sparsity pattern for a whole run while its values change. The
-pattern, and where each contribution lands in the data array, is therefore
-computed once from the contributions' coordinates (:class:`FixedPattern`);
-afterwards a refill is one gather or one sparse mat-vec, never a sparse-sparse
-product or a slice.
+Every matrix the time stepper factorises (the strength matrix K(r) of eq. (20), the step matrix A_t of eq. (25), the
+Hessians of the energy (13)) keeps its sparsity pattern for a whole run while its values change. The pattern, and
+where each contribution lands in the data array, is computed once from the contributions' coordinates
+(:class:`FixedPattern`); a refill is one gather or one sparse mat-vec, never a sparse-sparse product or a slice.
 
-- :class:`FixedPattern`: the CSR pattern of a list of (row, column)
-  contributions and the slot of each in the data array;
-- :class:`BlockPattern`: a coordinate-blocked (3 n, 3 n) matrix of nine n x n
-  blocks on one pattern;
+- :class:`FixedPattern`: the CSR pattern of a list of (row, column) contributions and the slot of each;
+- :class:`BlockPattern`: a coordinate-blocked (3 n, 3 n) matrix of nine n x n blocks on one pattern;
 - element matrices of a symmetric operator: :mod:`deformable.algebra.elements`;
 - the free and held blocks of a Newton or step matrix: :mod:`deformable.algebra.reduced`.
 """
@@ -52,15 +47,11 @@ class FixedPattern:
     Attributes
     ----------
     indptr, indices : int32 arrays
-        The canonical CSR pattern (sorted, one entry per distinct coordinate).
+        The canonical CSR pattern (sorted, one entry per distinct coordinate); :meth:`matrix` hands back
+        csr_matrices that share them, so a caller can check by identity that the pattern did not change.
     nnz : int
     slot : int array (contributions,)
         Position in the data array that contribution k adds to.
-
-    Notes
-    -----
-    :meth:`matrix` hands back csr_matrices that share ``indptr`` and
-    ``indices``, so a caller can check that the pattern did not change by identity.
     """
 
     def __init__(self, rows, cols, shape: tuple[int, int]):
@@ -97,17 +88,15 @@ class FixedPattern:
 class BlockPattern:
     """The fixed pattern of a symmetric 3 x 3 block matrix whose blocks share one scalar pattern.
 
+    :meth:`matrix` takes the six blocks (a, b), a <= b, each on S's very pattern, and returns the coordinate-blocked
+    (3 n, 3 n) matrix (index a n + k) on one fixed pattern.
+
     Parameters
     ----------
     S : sparse (n, n)
         The scalar pattern every block has (e.g. the one ``density_matrix`` returns).
     n : int
         The size of S (each block is n x n).
-
-    Notes
-    -----
-    :meth:`matrix` takes the six blocks (a, b), a <= b, each on S's very pattern, and returns the
-    coordinate-blocked (3 n, 3 n) matrix (index a n + k) on one fixed pattern.
     """
 
     def __init__(self, S: sp.csr_matrix, n: int):

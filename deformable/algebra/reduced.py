@@ -1,15 +1,10 @@
-r"""The free and held blocks of ``A = K + c_m M + c_c C``, refilled by precomputed gathers.
+"""The free and held blocks of ``A = K + c_m M + c_c C``, refilled by precomputed gathers.
 
-The constraints of a scene hold some degrees of freedom; every system the
-project solves is the free-free block of a matrix on a fixed pattern, with
-the free-held block carrying the prescribed values to the right-hand side.
-:class:`ReducedSystem` builds the union pattern of the varying matrices (K,
-the strength matrix of eq. (20) and the springs', contact's and wind's) and
-of the constant M and C once, and afterwards splits any refill into its
-blocks by gathers: no sparse slicing and no sparse-sparse product per step.
-The semi-implicit step of eq. (22)-(27) takes both blocks from here; Newton's
-matrices, whose free block alone is factorised, are
-:class:`deformable.algebra.upper.FreeUpper`'s.
+Every system the project solves is the free-free block of a matrix on a fixed pattern, the free-held block carrying
+the prescribed values to the right-hand side. :class:`ReducedSystem` builds the union pattern of the varying
+matrices (K, the strength matrix of eq. (20), and the springs', contact's and wind's) and of the constant M and C
+once, and splits any refill into its blocks by gathers. The semi-implicit step of eq. (22)-(27) takes both blocks
+from here; Newton's matrices are :class:`deformable.algebra.upper.FreeUpper`'s.
 """
 
 from __future__ import annotations
@@ -23,11 +18,7 @@ __all__ = ["ReducedSystem"]
 
 
 class ReducedSystem:
-    """A = K + K_2 + ... + c_m M + c_c C on a fixed pattern, split into free/held blocks; all symmetric.
-
-    Built once from the patterns of the varying matrices K (K_2, ...) and of
-    the constant M and C; afterwards each refill only gathers data arrays (no
-    sparse-sparse products, no slicing).
+    """A = K + K_2 + ... + c_m M + c_c C on a fixed pattern, split into free/held blocks by gathers; all symmetric.
 
     Parameters
     ----------
@@ -38,8 +29,8 @@ class ReducedSystem:
     fixed_sets : list of int arrays
         One block split per set of held degrees of freedom.
     extra : sequence of sparse (n, n)
-        Further varying matrices with fixed patterns (the springs' Hessian, the
-        wind's damping), refilled with K by :meth:`data`.
+        Further varying matrices with fixed patterns (the springs' Hessian, the wind's damping), refilled with K by
+        :meth:`data`.
     """
 
     def __init__(self, K, M, C, cm: float, cc: float, fixed_sets, extra=()):

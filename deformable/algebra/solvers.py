@@ -1,71 +1,37 @@
-r"""Sparse direct solvers behind one small interface: factor a symmetric matrix, then solve.
+"""Sparse direct solvers behind one small interface: factor a symmetric matrix, then solve.
 
-Every system the project solves is symmetric (the step matrix A_t of eq. (25),
-the Newton matrices of the implicit schemes) and keeps its sparsity pattern
-for a whole run, so a solver may analyse the pattern once (ordering,
-symbolic factorisation) and redo only the numerical factorisation when the
-values change.
+Every system the project solves is symmetric (the step matrix A_t of eq. (25), the Newton matrices of the implicit
+schemes) and keeps its sparsity pattern for a whole run, so a solver may analyse the pattern once (ordering,
+symbolic factorisation) and redo only the numerical factorisation when the values change.
 
-- :class:`SuperLU` (scipy, always available, the default): a symmetric
-  fill-reducing ordering (minimum degree on A^T + A, ``SymmetricMode``,
-  diagonal pivots). SciPy's SuperLU cannot keep a symbolic analysis, so each
-  factorisation orders again. On the coupled three-coordinate Newton matrix
-  this ordering is 4-9x faster than SuperLU's default COLAMD, and node-
-  interleaved and coordinate-blocked numbering of the unknowns factorise
-  equally fast (measured: FE 32 x 32 elements, 12 282 unknowns: 0.21 s and
-  0.22 s; COLAMD 1.4 s).
-- :class:`Pardiso` (Intel MKL PARDISO through the optional ``pypardiso``
-  package, ``pip install "deformable[fast]"``): nested-dissection ordering and
-  symbolic analysis once per pattern (phase 11), numerical factorisation per
-  matrix (phase 22), Cholesky when the matrix is known to be positive definite
-  (matrix type 2), symmetric indefinite Bunch-Kaufman otherwise (type -2).
-  Measured on the same Newton matrices (two cores): FD 64 x 64 nodes 25 ms
-  against SuperLU's 170 ms, FE 32 x 32 elements 35 ms against 220 ms, FE
-  64 x 64 213 ms against 1.9 s. The Cholesky's solves skip MKL's default two
-  steps of iterative refinement (``iparm[7] = 0``): a Cholesky factorisation
-  perturbs no pivot, and in Newton's method the next iteration corrects
-  whatever a solve leaves; measured, one solve FD 64 x 64 nodes 11.2 -> 5.1
-  ms, FE 32 x 32 elements 13.3 -> 5.5 ms. The indefinite factorisation
-  (perturbed pivots) keeps them.
+- :class:`SuperLU` (SciPy, always available): a symmetric fill-reducing ordering (minimum degree on A^T + A,
+  ``SymmetricMode``, diagonal pivots), much faster than SuperLU's default COLAMD on these matrices. SciPy's SuperLU
+  keeps no symbolic analysis, so each factorisation orders again.
+- :class:`Pardiso` (Intel MKL PARDISO through the optional ``pypardiso`` package, ``pip install
+  "deformable[fast]"``): nested-dissection ordering and symbolic analysis once per pattern (phase 11), numerical
+  factorisation per matrix (phase 22), Cholesky when the matrix is known to be positive definite (matrix type 2),
+  symmetric indefinite Bunch-Kaufman otherwise (type -2). The Cholesky's solves skip MKL's iterative refinement
+  (``iparm[7] = 0``): a Cholesky perturbs no pivot, and Newton's next iteration corrects what a solve leaves; the
+  indefinite factorisation (perturbed pivots) keeps it.
 
-:func:`make_solver` picks the one named, or (``solver="auto"``) PARDISO when
-``pypardiso`` is importable and the matrix has at least :data:`PARDISO_FROM`
-stored entries, SuperLU otherwise: on small systems PARDISO's per-call
-overhead outweighs its speed (measured: the five-point Laplacian, factor and
-solve, SuperLU faster up to about 4 000 unknowns, 20 000 entries).
+:func:`make_solver` picks the one named, or (``solver="auto"``) PARDISO when ``pypardiso`` is importable and the
+matrix has at least :data:`PARDISO_FROM` stored entries, SuperLU otherwise (PARDISO's per-call overhead outweighs
+its speed on small systems).
 
 Single precision. In time steps Newton's matrices are factorised by PARDISO's Cholesky in single precision
-(``single=True``, MKL's iparm[27]: the factor in float32), twice the values a vector register holds and half the
-memory traffic: measured on the curtain's Newton matrices (one thread) FD 64 x 64 nodes 48 -> 31 ms a
-factorisation, 3.8 -> 1.8 ms a solve, FD 128 x 128 283 -> 170 ms. Each solve is refined in double precision
-(the residual from the matrix's double values, one product) until it is at most :data:`SINGLE_RTOL` of the
-right-hand side (Wilkinson's iterative refinement, as in Buttari et al. 2007, "Mixed precision iterative
-refinement techniques for the solution of dense linear systems"), a Newton direction as inexact as a forcing
-term of 1e-5 allows (Dembo, Eisenstat and Steihaug 1982): the FD curtain's single-precision solves mostly meet it
-unrefined (relative residuals 1e-6 to 2e-6), and where a matrix is too ill-conditioned for single precision
-(refinement does not converge in two steps) the solver turns to double precision for good, so a direction is
-never worse than that. A float32 Cholesky that meets a non-positive pivot proves nothing of a matrix
-whose condition exceeds 1e7 (an FE sheet 1e-12 times lighter than its stiffness: 2e13): Newton takes it for
-indefinite and falls back to its definite matrix, positive definite by construction, and where that one fails too
-in single precision, :meth:`Pardiso.double` turns to double precision for good
-(:mod:`deformable.solve.directions`); shifting it instead made a direction 1e8 times too short. The curtain's
-iterations and factorisations a step (1.77 and 1.09 at FD 48 x 48 over 0.5 s) did not change. Equilibrium's
-matrices have no inertia to bound their condition (a shell's bending against its membrane) and are factorised in double precision from the start.
+(``single=True``, MKL's iparm[27]: the factor in float32). Each solve is refined in double precision (the residual
+from the matrix's double values) until it is at most :data:`SINGLE_RTOL` of the right-hand side (Wilkinson's
+iterative refinement, as in Buttari et al. 2007), a Newton direction as inexact as a forcing term of 1e-5 allows
+(Dembo, Eisenstat and Steihaug 1982); where refinement does not converge in :data:`SINGLE_REFINEMENTS` steps the
+solver turns to double precision for good. A float32 Cholesky that meets a non-positive pivot proves nothing of a
+matrix whose condition exceeds 1e7: Newton then falls back to its definite matrix, and where that one fails too in
+single precision, :meth:`Pardiso.double` turns to double precision for good (:mod:`deformable.solve.directions`).
+Equilibrium's matrices have no inertia to bound their condition and are factorised in double precision.
 
-Two thread pools. PARDISO runs on MKL's threads, numpy's own products on
-OpenBLAS's; after a product OpenBLAS's idle threads keep spinning for a while,
-on the very cores the next factorisation needs. :func:`one_blas_thread` keeps
-OpenBLAS to one thread while a solver loop runs (through ``threadpoolctl``),
-whatever the solver: SuperLU factorises as fast either way (measured, FD 48 x
-48 nodes: 81-89 ms with two OpenBLAS threads, 82-83 with one), and the
-Hessian's blocks run on threads of their own there
-(:func:`deformable.physics.integrand.for_blocks`). Measured on
-the curtain's Newton matrices (two cores, quiet, median of 8 assemble-then-
-factor rounds): FE 32 x 32 elements 91 ms a factorisation in the loop
-against 36 ms alone, 47-52 ms with one OpenBLAS thread; FD 64 x 64 nodes
-32-47 against 34-35 ms, within the noise. In the bench, one Newton
-iteration over one factor+solve went from 3.92 to 2.47 (FE 32) and from
-2.79 to 1.93 (FD 64).
+Two thread pools. PARDISO runs on MKL's threads, numpy's products on OpenBLAS's, whose idle threads keep spinning
+after a product on the cores the next factorisation needs. :func:`one_blas_thread` keeps OpenBLAS to one thread
+while a solver loop runs (through ``threadpoolctl``), whatever the solver; the Hessian's blocks run on threads of
+their own (:func:`deformable.physics.integrand.for_blocks`).
 """
 
 from __future__ import annotations
@@ -86,8 +52,7 @@ from .upper import SymmetricUpper
 __all__ = ["SuperLU", "Pardiso", "Auto", "make_solver", "SOLVERS", "available", "SPLU_OPTIONS"]
 
 # MKL's OpenMP threads spin for 200 ms after each parallel region by default, taking a core from the numpy
-# work between factorisations (measured: a Newton step of FD 64 x 64 nodes 1.5x slower on two cores). Set
-# before MKL starts (it starts with the first PARDISO solver); a value the user set is kept.
+# work between factorisations. Set before MKL starts (with the first PARDISO solver); a value the user set is kept.
 os.environ.setdefault("KMP_BLOCKTIME", "0")
 
 #: SuperLU options for symmetric systems: minimum degree on A^T + A and diagonal pivots
@@ -109,10 +74,8 @@ class SuperLU:
     Parameters
     ----------
     definite : bool
-        Refuse (SingularMatrix) a matrix that is not positive definite. With
-        diagonal pivots and a symmetric ordering the factorisation of a symmetric
-        matrix P A P^T = L U has U = D L^T, so A is positive definite exactly when
-        the diagonal of U is positive.
+        Refuse (SingularMatrix) a matrix that is not positive definite. With diagonal pivots and a symmetric
+        ordering, P A P^T = L U has U = D L^T, so A is positive definite exactly when the diagonal of U is positive.
     options : dict, optional
         Keyword arguments of :func:`scipy.sparse.linalg.splu` (default :data:`SPLU_OPTIONS`).
     """
@@ -153,20 +116,15 @@ class SuperLU:
 
 
 class Pardiso:
-    """MKL PARDISO, found through ``pypardiso``, called directly, with the symbolic analysis kept while the pattern
-    stays the same.
+    """MKL PARDISO, found through ``pypardiso``, called directly (ctypes, zero-based indices, arguments built once
+    per pattern), with the symbolic analysis kept while the pattern stays the same.
 
     Parameters
     ----------
     definite : bool
-        The matrices are symmetric positive definite: Cholesky (type 2);
-        otherwise symmetric indefinite (type -2).
+        The matrices are symmetric positive definite: Cholesky (type 2); otherwise symmetric indefinite (type -2).
     single : bool
         With ``definite``: factorise and solve in single precision (MKL's iparm[27]; module docstring).
-
-    ``pypardiso`` locates MKL's library and holds its handle; the calls are this class's own (ctypes, zero-based
-    indices, arguments built once per pattern): pypardiso's own call copies the index arrays to one-based ones and
-    allocates the solution at every call (measured on FD 20 x 20 nodes: 0.3 ms of a 1.5 ms factorisation).
     """
 
     name = "pardiso"
@@ -176,8 +134,8 @@ class Pardiso:
 
         self.definite = definite
         self._solver = s = pypardiso.PyPardisoSolver(mtype=2 if definite else -2)
-        # pypardiso looks for MKL by a recursive glob of the environment at every construction (0.2-0.25 s
-        # measured here, per model and stepper); its variable PYPARDISO_MKL_RT skips the search: the library found
+        # pypardiso looks for MKL by a recursive glob of the environment at every construction; its variable
+        # PYPARDISO_MKL_RT skips the search: the library found
         os.environ.setdefault("PYPARDISO_MKL_RT", s.libmkl._name)
         # MKL's defaults, but bit-identical whatever the number of MKL threads (fixed when MKL starts, from
         # OMP_NUM_THREADS / MKL_NUM_THREADS: 1 on Dask's workers): conditional numerical reproducibility
@@ -186,7 +144,7 @@ class Pardiso:
                              s.iparm.ctypes.data_as(ctypes.c_void_p))
         s.iparm[1], s.iparm[33] = 2, PARDISO_CNR_THREADS
         s.iparm[34] = 1  # zero-based indices
-        if definite:  # Cholesky perturbs no pivot: no iterative refinement (MKL's default, 2 steps, is a solve x 2.2)
+        if definite:  # Cholesky perturbs no pivot: no iterative refinement (MKL's default: 2 steps)
             s.iparm[7] = 0
         self.single = bool(single and definite)  # single precision: Cholesky only (module docstring)
         if self.single:
@@ -227,8 +185,8 @@ class Pardiso:
         self._call(11, data, self._empty, self._empty)
 
     def factor(self, A) -> "Pardiso":
-        """Factorise A (square, symmetric): an :class:`deformable.algebra.upper.SymmetricUpper` as it is, or any scipy
-        sparse matrix (its upper triangle); the pattern's analysis is reused while it stays the same."""
+        """Factorise A (square, symmetric): an :class:`deformable.algebra.upper.SymmetricUpper` as it is, or any
+        scipy sparse matrix (its upper triangle); the pattern's analysis is reused while it stays the same."""
         if isinstance(A, SymmetricUpper):
             if self._pattern != ("upper", A.version, A.indptr.size) or self._upper[1].size != A.indices.size:
                 self._analyse(A.indptr, A.indices, A.data.astype(self._dtype))
@@ -256,9 +214,9 @@ class Pardiso:
 
     def double(self) -> bool:
         """Single precision does not resolve this problem's matrices (refinement did not converge, or a matrix
-        positive definite by construction lost a pivot in float32): double precision from now on, the matrix at
-        hand analysed and factorised again: True where that was done (False where it already was in double
-        precision, or had no matrix at hand)."""
+        positive definite by construction lost a pivot in float32): double precision from now on, the matrix at hand
+        analysed and factorised again: True where that was done (False where it already was in double precision, or
+        had no matrix at hand)."""
         if not self.single:
             return False
         self.single = False
@@ -374,8 +332,8 @@ def available() -> tuple[str, ...]:
 def make_solver(solver: str = "auto", definite: bool = False, single: bool = False):
     """A solver by name: "auto" (module docstring), "superlu" or "pardiso".
 
-    ``definite``: the matrices to factor must be positive definite (refused with SingularMatrix otherwise;
-    PARDISO uses Cholesky). ``single``: PARDISO's Cholesky in single precision (SuperLU stays in double).
+    ``definite``: the matrices to factor must be positive definite (refused with SingularMatrix otherwise; PARDISO
+    uses Cholesky). ``single``: PARDISO's Cholesky in single precision (SuperLU stays in double).
     """
     if solver not in SOLVERS:
         raise InputError(f"solver must be one of {SOLVERS}, got {solver!r}")

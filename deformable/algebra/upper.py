@@ -1,31 +1,22 @@
-r"""The Newton matrix's free block as one upper triangle, assembled where the solver reads it.
+"""The Newton matrix's free block as one upper triangle, assembled where the solver reads it.
 
-Newton's matrix ``A = c_M M + c_C C + H + (the springs', obstacles' and wind's
-matrices) + (the self-contact's)`` is symmetric, and only its free-free block
-is factorised. :class:`FreeUpper` keeps that block's upper triangle as CSR
-arrays (``indptr``, ``indices``: rows in the free numbering, columns sorted)
-on a pattern built once from every contribution's pattern, and precomputes
-where each contribution lands in its data array:
+Newton's matrix ``A = c_M M + c_C C + H + (the springs', obstacles' and wind's matrices) + (the self-contact's)`` is
+symmetric, and only its free-free block is factorised. :class:`FreeUpper` keeps that block's upper triangle as CSR
+arrays (``indptr``, ``indices``: rows in the free numbering, columns sorted) on a pattern built once from every
+contribution's pattern, and precomputes where each contribution lands in its data array:
 
-- the energy's Hessian, given as element upper triangles (E, nu) over element
-  degrees of freedom (:class:`deformable.algebra.elements.SymmetricElements`):
-  each entry goes to one slot (an entry (l, m), l < m, whose two local degrees
-  of freedom are one global one, to the diagonal twice), held rows dropped, by
-  the compiled scatter :func:`deformable.algebra.elements.scatter_upper`;
-- any fixed-pattern symmetric matrix (M, C, the springs', the obstacles', the
-  wind's, a Hessian given whole): a gather of its data;
-- a *loose* matrix, whose pattern changes between calls (the self-contact's
-  Hessian): its entries are looked up in the block's pattern, which grows to
-  the union of every pattern seen when one falls outside it (rarely: the
-  self-contact's pattern is grown ahead by the pairs that may touch within the
-  step, :meth:`FreeUpper.grow`).
+- the energy's Hessian, given as element upper triangles (E, nu) over element degrees of freedom
+  (:class:`deformable.algebra.elements.SymmetricElements`): each entry goes to one slot (an entry (l, m), l < m,
+  whose two local degrees of freedom are one global one, to the diagonal twice), held rows dropped, by the compiled
+  scatter :func:`deformable.algebra.elements.scatter_upper`;
+- any fixed-pattern symmetric matrix (M, C, the springs', the obstacles', the wind's, a Hessian given whole): a
+  gather of its data;
+- a *loose* matrix, whose pattern changes between calls (the self-contact's Hessian): its entries are looked up in
+  the block's pattern, which grows to the union of every pattern seen when one falls outside it (rarely: the pattern
+  is grown ahead by the pairs that may touch within the step, :meth:`FreeUpper.grow`).
 
-The result is an :class:`SymmetricUpper`, which the direct solvers factorise as
-it is (PARDISO reads an upper triangle in CSR; its analysis is kept while the
-pattern's ``version`` stays the same). Before this, a Newton matrix went
-through the whole Hessian's CSR data, a gather into the free block's
-full CSC and another into PARDISO's upper triangle: measured at FD 64 x 64
-nodes, 4-5 ms of glue per matrix against 25 ms of Hessian kernels.
+The result is a :class:`SymmetricUpper`, which the direct solvers factorise as it is (PARDISO reads an upper
+triangle in CSR; its analysis is kept while the pattern's ``version`` stays the same).
 """
 
 from __future__ import annotations
@@ -181,8 +172,8 @@ class FreeUpper:
         return bool(np.all(self.keys[at] == keys))
 
     def grow(self, rows, cols) -> None:
-        """Add the free upper entries among (rows, cols) (global indices) to the pattern, if any is new; the
-        version changes only then."""
+        """Add the free upper entries among (rows, cols) (global indices) to the pattern, if any is new; the version
+        changes only then."""
         keys, _ = self._keys(np.asarray(rows, np.int64), np.asarray(cols, np.int64))
         keys = np.unique(keys)
         at = np.minimum(np.searchsorted(self.keys, keys), self.keys.size - 1)
@@ -225,8 +216,8 @@ class FreeUpper:
         """The free block's upper triangle of the whole matrix.
 
         ``hessian``: element upper triangles (E, nu) when the block was built on elements, else a matrix on the
-        pattern it was built with; ``extra``: the fixed-pattern matrices, in order; ``loose``: symmetric sparse
-        (n, n) matrices of any pattern (the block grows to hold them); ``reserve``: a callable giving (rows, columns)
+        pattern it was built with; ``extra``: the fixed-pattern matrices, in order; ``loose``: symmetric sparse (n,
+        n) matrices of any pattern (the block grows to hold them); ``reserve``: a callable giving (rows, columns)
         the loose matrices may soon need, added too where the pattern must grow anyway (it then grows rarely).
         """
         loose = [sp.coo_matrix(L) for L in loose]

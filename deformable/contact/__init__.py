@@ -4,16 +4,16 @@
 - :mod:`.settings`: :class:`Contact`, how the sheet meets them;
 - :mod:`.points`: where the sheet may touch (contact points), and the clearance;
 - :mod:`.barrier`: the IPC barrier and friction mollifier as functions of a distance;
-- :mod:`.potential`: the barrier and lagged friction potential, its safe steps and the solved contact normals
-  (the direction filter Newton's method takes from here);
+- :mod:`.potential`: the barrier and lagged friction potential, its safe steps and the solved contact normals (the
+  direction filter Newton's method takes from here);
 - :mod:`.repulsion`: the paper's (TPBF87's) exponential obstacle force;
-- :mod:`.selfmesh`: the sheet as a triangle mesh for self-contact, its self-distance and intersection test
-  (the IPC Toolkit, ``ipctk``);
+- :mod:`.selfmesh`: the sheet as a triangle mesh for self-contact, its self-distance and intersection test (the IPC
+  Toolkit, ``ipctk``);
 - :mod:`.selfpotential`: the self-contact barrier on that mesh and its collision-free step;
 - :mod:`.meshobstacle`: a rigid obstacle of any shape, a triangle mesh, static or on a prescribed rigid path;
 - :mod:`.meshpotential`: the sheet against the mesh obstacles, triangle against triangle;
-- :mod:`.terms`: the obstacles' and the self-contact's terms as one term of Newton's potential and one
-  direction filter.
+- :mod:`.terms`: the obstacles' and the self-contact's terms as one term of Newton's potential and one direction
+  filter.
 
 Imports the ground floor, :mod:`deformable.geometry`, :mod:`deformable.algebra` and :mod:`deformable.physics`.
 """

@@ -1,12 +1,10 @@
-r"""The barrier of Incremental Potential Contact and IPC's friction mollifier, as functions of a distance.
+"""The barrier of Incremental Potential Contact and IPC's friction mollifier, as functions of a distance.
 
     b(d) = -(d - dhat)^2 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat
 
-(Li et al. 2020, "Incremental Potential Contact", ACM TOG 39(4), eq. (6)),
-its first and second derivatives, and the friction mollifier f0 of IPC's
-section 5 with the two coefficients of its gradient and Hessian. All are
-pointwise: arrays of distances (m) in, arrays out. The potential built from
-them is :mod:`deformable.contact.potential`.
+(Li et al. 2020, "Incremental Potential Contact", ACM TOG 39(4), eq. (6)), its first and second derivatives, and the
+friction mollifier f0 of IPC's section 5 with the two coefficients of its gradient and Hessian. All are pointwise:
+arrays of distances (m) in, arrays out. The potential built from them is :mod:`deformable.contact.potential`.
 """
 
 from __future__ import annotations

@@ -1,45 +1,30 @@
-r"""The sheet against triangle-mesh obstacles: their joint contact mesh and barrier (the IPC Toolkit, ``ipctk``).
+"""The sheet against triangle-mesh obstacles: their joint contact mesh and barrier (the IPC Toolkit, ``ipctk``).
 
-A :class:`deformable.contact.meshobstacle.MeshObstacle` has no signed distance, so it cannot be met at the
-contact points as the analytic shapes are (:mod:`deformable.contact.potential`). The sheet meets it as it meets
-itself (:mod:`deformable.contact.selfpotential`), primitive against primitive, on one triangle mesh of the IPC
-Toolkit (:class:`ObstacleMesh`): the sheet's contact mesh (:class:`deformable.contact.selfmesh.ContactMesh`'s
-vertices ``W X`` and triangles) followed by every mesh obstacle's vertices and triangles. Only pairs of one
-sheet primitive and one obstacle primitive may touch (the toolkit's vertex-patches filter: the sheet one patch,
-the obstacles the other), so the sheet against itself stays the self-contact's business and an obstacle that
-intersects itself (a scanned mesh often does) is never counted. A sheet vertex meets an obstacle triangle, an
-obstacle vertex (a chair's corner) meets a sheet triangle, and edges meet edges.
+A :class:`deformable.contact.meshobstacle.MeshObstacle` has no signed distance, so the sheet meets it as it meets
+itself (:mod:`deformable.contact.selfpotential`), primitive against primitive, on one IPC Toolkit mesh
+(:class:`ObstacleMesh`): the sheet's contact mesh (:class:`deformable.contact.selfmesh.ContactMesh`'s vertices ``W
+X`` and triangles) followed by every mesh obstacle's vertices and triangles. Only pairs of one sheet primitive and
+one obstacle primitive may touch (the toolkit's vertex-patches filter), so an obstacle that intersects itself is
+never counted. The barrier and the lagged friction are :class:`deformable.contact.trianglebarrier.TriangleBarrier`'s
+on that mesh; the obstacles' rows are dropped. The friction's slip is the sheet's displacement relative to the
+obstacle's own over the step, so a sheet resting on a moving obstacle is carried, not rubbed.
 
-The barrier and the lagged friction (Coulomb's ``Contact.friction``, smoothed below ``Contact.slip``) are IPC's
-on that mesh, :class:`deformable.contact.trianglebarrier.TriangleBarrier` (the formulas, the collision-free step,
-the map back to the degrees of freedom); the obstacles' rows are dropped, they are not degrees of freedom. The
-friction's slip is the sheet's displacement relative to the obstacle's own over the step, so a sheet resting on a
-moving obstacle is carried, not rubbed.
+The stiffness. kappa (N/m^5) starts where the analytic obstacles' does (the same pressure rests the sheet at dhat /
+10, :meth:`deformable.contact.settings.Contact.barrier_stiffness`): ``pressure = kappa |d b(d^2) / dd|`` at d = dhat
+/ 10. A taut sheet pressed over a polyhedral corner carries a force on a point, which no pressure bounds, so kappa
+adapts as in IPC (Li et al. 2020, section 4.3 and its supplement; the IPC Toolkit's ``update_barrier_stiffness``):
+at a step's start whose smallest distance is below :data:`ADAPTIVE_FRACTION` of dhat and smaller than at the last
+step's start (itself below it), kappa doubles, up to the self-contact's stiffness (a sheet closing at
+``Contact.self_speed`` stopped at dhat / 10, :func:`deformable.contact.trianglebarrier.motion_stiffness`). Where an
+obstacle moves, kappa starts at that limit.
 
-The stiffness. kappa (N/m^5) starts where the analytic obstacles' does (the pressure under which the sheet rests
-at dhat / 10 is the same, :meth:`deformable.contact.settings.Contact.barrier_stiffness`): ``pressure = kappa
-|d b(d^2) / dd|`` at d = dhat / 10, so a cloth resting on a mesh and on the analytic shape it triangulates rests
-alike. A polyhedral obstacle has creases and corners, and a taut sheet pressed over a corner carries a force on a
-point, which no pressure bounds: measured on the ``sphere`` scene's ball triangulated at level 2 (FD 24 x 24
-nodes), the closest point-triangle pairs came to 1e-6 m and nearly parallel edge pairs (whose barrier IPC
-mollifies) to 4e-10 m, where the squared distance is near its round-off. So kappa adapts as in IPC (Li et al.
-2020, section 4.3 and its supplement; the IPC Toolkit's ``update_barrier_stiffness``): at a step's start whose
-smallest distance is below :data:`ADAPTIVE_FRACTION` of dhat and smaller than at the last step's start (itself
-below it), kappa doubles, up to the self-contact's stiffness (a sheet closing at ``Contact.self_speed`` stopped at
-dhat / 10, :func:`deformable.contact.trianglebarrier.motion_stiffness`). Measured on the same run to 0.25 s: 2
-doublings, the closest pair 4.8e-8 m. A moving obstacle strikes the sheet: where one moves, kappa starts at that
-limit. Measured on a box moving at 5 m/s through a hanging sheet (FD 9 x 9 nodes, 30 ms): from the weight's
-kappa the closest pair came to 9.7e-11 m and Newton's solves stalled (steps retried shorter, 38 steps, 2.4 s);
-from the limit, 5.0e-5 m in 30 steps and 0.9 s.
-
-A moving obstacle (its prescribed rigid path, :meth:`MeshObstacle.points`) stands, through an implicit step from
-t_n to t_{n+1}, where it is at t_{n+1} (:meth:`MeshObstaclePotential.move`). Its motion over the step is checked
-with the held degrees of freedom's prescribed motion (:meth:`MeshObstaclePotential.prescribed_step`, from
-:meth:`deformable.contact.terms.ContactTerms.safe_start`): the obstacle moving from its place at t_n to its place
-at t_{n+1} along straight lines, the sheet where it is. Where that would strike the sheet, the sheet near the
-obstacle rides with it (:meth:`MeshObstaclePotential.carry`) and the check is made again; when even that strikes
-it, the step is rejected and retried shorter. So no state of a run has the sheet on the wrong side of an obstacle
-it did not pass: a fast obstacle does not tunnel through a thin sheet between two steps.
+A moving obstacle (its prescribed rigid path, :meth:`.meshobstacle.MeshObstacle.points`) stands, through an implicit
+step from t_n to t_{n+1}, where it is at t_{n+1} (:meth:`MeshObstaclePotential.move`). Its motion over the step is
+checked with the held degrees of freedom's prescribed motion (:meth:`MeshObstaclePotential.prescribed_step`, from
+:meth:`deformable.contact.terms.ContactTerms.safe_start`): the obstacle moving along straight lines, the sheet where
+it is. Where that would strike the sheet, the sheet near the obstacle rides with it
+(:meth:`MeshObstaclePotential.carry`) and the check is made again; when even that strikes it, the step is rejected
+and retried shorter. So a fast obstacle does not tunnel through a thin sheet between two steps.
 """
 
 from __future__ import annotations
@@ -106,9 +91,7 @@ class ObstacleMesh:
         self.mesh = ipctk.CollisionMesh(rest, self.edges, self.faces)
         # the barrier's weights: the sheet's vertices stand for their contact points' own areas, those of the
         # analytic obstacles' barrier (FD's nodes: the areas of its mass), so that a node's barrier carries its own
-        # weight; the toolkit's barycentric areas gave an FD sheet's edge nodes half their weight's support, and on
-        # a mesh floor 1 degree below the friction angle its edge crept at 2.6 mm/s (FD 5 x 5, 0.4 s) where the
-        # analytic floor's stuck below the 1 mm/s slip speed
+        # weight (the toolkit's barycentric areas give an FD sheet's edge nodes half their weight's support)
         areas = np.array(self.mesh.vertex_areas, dtype=float)
         areas[:self.P] = self.points.area
         self.mesh.vertex_areas = areas
@@ -121,8 +104,8 @@ class ObstacleMesh:
         return np.concatenate([o.points(t) for o in self.obstacles])
 
     def vertices(self, X, t: float | np.ndarray) -> np.ndarray:
-        """The mesh's vertices (P + Q, 3) (m) of a state X (ndof, 3), the obstacles at time t (s) or given as
-        their vertices (Q, 3); Fortran-ordered as the IPC Toolkit takes them."""
+        """The mesh's vertices (P + Q, 3) (m) of a state X (ndof, 3), the obstacles at time t (s) or given as their
+        vertices (Q, 3); Fortran-ordered as the IPC Toolkit takes them."""
         Y = self.obstacle_vertices(t) if np.ndim(t) == 0 else np.asarray(t, float)
         return np.asfortranarray(np.vstack([self.points.positions(np.asarray(X, float)), Y]))
 
@@ -211,13 +194,13 @@ class MeshObstaclePotential(TriangleBarrier):
         self._closest = math.inf  # the smallest squared distance at the last step's start (m^2)
 
     def vertices(self, x, Y=None) -> np.ndarray:
-        """The mesh's vertices (P + Q, 3) (m) of a flat state x, the obstacles where they stand at the step's end (or
-        at Y (Q, 3))."""
+        """The mesh's vertices (P + Q, 3) (m) of a flat state x, the obstacles where they stand at the step's end
+        (or at Y (Q, 3))."""
         return self.mesh.vertices(np.asarray(x, float).reshape(3, self.n).T, self.Y1 if Y is None else Y)
 
     def start_vertices(self, x) -> np.ndarray:
-        """The vertices at the step's start: the sheet at x, the obstacles where they stood at t_n (their motion over
-        the step is then part of the friction's slip)."""
+        """The vertices at the step's start: the sheet at x, the obstacles where they stood at t_n (their motion
+        over the step is then part of the friction's slip)."""
         return self.vertices(x, self.Y0)
 
     # -- the obstacles' motion --------------------------------------------------------------
@@ -246,12 +229,12 @@ class MeshObstaclePotential(TriangleBarrier):
         """A start x + dx (flat) in which the sheet near a moving obstacle rides with it over the step.
 
         Where an obstacle's own motion would strike the sheet standing still (:meth:`prescribed_step` below 1), the
-        sheet must give way within the step, which a start with the sheet where it stood cannot: every step would
-        be rejected down to the smallest. So the free degrees of freedom of positions (FD's nodes, FE's node
-        values) whose contact points lie within the activation distance plus the obstacle's largest travel over
-        the step move as that obstacle's rigid motion carries them (:meth:`MeshObstacle.carried`); the held ones
-        (``held``, int array) keep their prescribed dx, and the rest keep dx. Newton's method then finds where the
-        sheet goes from there.
+        sheet must give way within the step, which a start with the sheet where it stood cannot: every step would be
+        rejected down to the smallest. So the free degrees of freedom of positions (FD's nodes, FE's node values)
+        whose contact points lie within the activation distance plus the obstacle's largest travel over the step
+        move as that obstacle's rigid motion carries them (:meth:`.meshobstacle.MeshObstacle.carried`); the held
+        ones (``held``, int array) keep their prescribed dx, and the rest keep dx. Newton's method then finds where
+        the sheet goes from there.
         """
         x = np.asarray(x, float)
         out = x + np.asarray(dx, float)
@@ -286,8 +269,8 @@ class MeshObstaclePotential(TriangleBarrier):
         return out
 
     def memory(self) -> dict:
-        """What the adaptive rule carries from step to step (a checkpoint keeps it, so that a resumed run is the same
-        run): kappa (N/m^5), the smallest squared distance at the last step's start (m^2) and the doublings."""
+        """What the adaptive rule carries from step to step (a checkpoint keeps it, so that a resumed run is the
+        same run): kappa (N/m^5), the smallest squared distance at the last step's start (m^2) and the doublings."""
         return {"kappa": self.kappa, "closest": self._closest, "raised": self.raised}
 
     def recall(self, memory: dict) -> None:

@@ -1,18 +1,13 @@
-r"""The contact points of a sheet: where it may touch an obstacle, and how close it is.
+"""The contact points of a sheet: where it may touch an obstacle, and how close it is.
 
-The sheet touches an obstacle at a fixed set of material
-points a_p (parameter coordinates): a sub-grid of the parameter rectangle with
-``samples`` points per cell side, the nodes among them (:class:`ContactPoints`).
-Finite differences take the nodes (samples = 1); finite elements take a
-sub-grid of spacing h / 2 by default (the nodes, the element sides' midpoints
-and the element centres), so that the cubic surface between nodes is covered
-too. Each point maps to the degrees of freedom by a fixed sparse matrix W
-(P, ndof), ``r(a_p) = W X`` (the backend hook ``point_matrix``), and stands
-for an area A_p (m^2): FD's own node areas (those of its mass, so that every
-node's barrier carries its own weight), the trapezoidal rule on FE's sub-grid.
-Non-penetration is guaranteed at the contact points: between them the surface
-may cut a curved obstacle by its chord's sag, about h^2 / (8 R) for FD's
-bilinear cells of side h over a radius R (``Contact(samples=2)`` quarters it).
+The sheet touches an obstacle at a fixed set of material points a_p (parameter coordinates): a sub-grid of the
+parameter rectangle with ``samples`` points per cell side, the nodes among them (:class:`ContactPoints`). Finite
+differences take the nodes (samples = 1); finite elements a sub-grid of spacing h / 2 by default, so that the cubic
+surface between nodes is covered too. Each point maps to the degrees of freedom by a fixed sparse matrix W (P,
+ndof), ``r(a_p) = W X`` (the backend hook ``point_matrix``), and stands for an area A_p (m^2): FD's own node areas
+(those of its mass), the trapezoidal rule on FE's sub-grid. Non-penetration is guaranteed at the contact points:
+between them the surface may cut a curved obstacle by its chord's sag, about h^2 / (8 R) for cells of side h over a
+radius R (``Contact(samples=2)`` quarters it).
 
 :func:`contact_points` builds them once per model; :func:`require_outside` checks a state against the scene's
 analytic obstacles (every kind: :mod:`deformable.contact.clearance`).
@@ -67,12 +62,12 @@ class ContactPoints:
     W : sparse (P, ndof)
         ``r(a_p) = W @ X``.
     owner : int array (P,)
-        The degree of freedom whose own point each is (W's row is that one alone, with weight 1: FD's nodes,
-        FE's at the nodes), else -1.
+        The degree of freedom whose own point each is (W's row is that one alone, with weight 1: FD's nodes, FE's at
+        the nodes), else -1.
     area : array (P,)
-        The area each point stands for (m^2): the backend's own weights where the contact points are its own
-        points (FD's nodes: h1 h2, times the control-area weights when chosen), else the trapezoidal rule on
-        the sub-grid (summing to L1 L2).
+        The area each point stands for (m^2): the backend's own weights where the contact points are its own points
+        (FD's nodes: h1 h2, times the control-area weights when chosen), else the trapezoidal rule on the sub-grid
+        (summing to L1 L2).
     """
 
     def __init__(self, model, samples: int):

@@ -1,81 +1,47 @@
-r"""The barrier and friction potential over flat vectors, with its safe steps and the solved contact normals.
+"""The barrier and friction potential over flat vectors, with its safe steps and the solved contact normals.
 
-The barrier (implicit schemes; Li et al. 2020, "Incremental Potential
-Contact", ACM TOG 39(4), eq. (6)). With d_pk the signed distance of point p
-to obstacle k (:mod:`deformable.contact.obstacles`) and the activation distance dhat,
+The barrier (implicit schemes; Li et al. 2020, "Incremental Potential Contact", ACM TOG 39(4), eq. (6)). With d_pk
+the signed distance of point p to obstacle k (:mod:`deformable.contact.obstacles`) and the activation distance dhat,
 
     b(d) = -(d - dhat)^2 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat,
     B(x) = kappa sum_pk A_p b(d_pk(x))                                    (J)
 
-is zero beyond dhat, C2 at dhat, and grows without bound as d -> 0. kappa
-(N/m^3) is a contact stiffness per unit area; by default the sheet's own
-weight mu g rests at d = dhat / 10 (:meth:`deformable.contact.settings.Contact.barrier_stiffness`). Its
-gradient is ``kappa A_p b'(d) n`` per point and its Hessian
-``kappa A_p (b''(d) n n^T + b'(d) hess d)``: b'' > 0 along the normal; b' < 0
-and ``hess d`` is positive semi-definite for a convex obstacle, so the second
-term is negative semi-definite across it. The "definite" Hessian drops it,
-which is exactly the projection of the 3 x 3 block onto the positive
-semi-definite cone (``hess d n = 0``). B joins the elastic energy in the
-incremental potential of each implicit step; Newton's line search never
-takes a step that would carry a contact point across an obstacle: every
-Newton direction is clipped to ``margin`` (0.8, as IPC) of the largest step
-that keeps every point outside (:meth:`ContactPotential.max_step`, exact for
-the convex obstacles here), so every iterate keeps at least (1 - margin) of
-every point's gap, and the clearance stays positive at every step.
+is zero beyond dhat, C2 at dhat, and grows without bound as d -> 0. kappa (N/m^3) is a contact stiffness per unit
+area (:meth:`deformable.contact.settings.Contact.barrier_stiffness`). Its gradient is ``kappa A_p b'(d) n`` per
+point and its Hessian ``kappa A_p (b''(d) n n^T + b'(d) hess d)``; for a convex obstacle the second term is negative
+semi-definite, and the "definite" Hessian drops it (the projection of the 3 x 3 block onto the positive
+semi-definite cone). Every Newton direction is clipped to ``margin`` (0.8, as IPC) of the largest step that keeps
+every point outside (:meth:`ContactPotential.max_step`, exact for the convex obstacles here), so the clearance stays
+positive at every iterate.
 
-The contact normals, solved against the barrier itself
-(:meth:`ContactPotential.relax`; nonlinear elimination: Lanzkron, Rose and
-Wilkes 1996, "An analysis of approximate nonlinear elimination", SIAM J. Sci.
-Comput. 17(2); Cai and Keyes 2002, "Nonlinearly preconditioned inexact Newton
-algorithms", SIAM J. Sci. Comput. 24(1)). Newton's linear model of b is poor
-within a few gaps of an obstacle (b' ~ -dhat^2 / d): a point the direction
-carries towards an obstacle overshoots its equilibrium gap and is clipped
-deep into the barrier, and the iterations after climb back out at Newton's
-rate for a 1/d force from below, slowly (measured: the largest residual of a
-step's second and third iterations sat at points 0.01 dhat from the ball,
-whose equilibrium gap was 0.025 dhat). So in a time step (not in
-equilibrium, where no inertia bounds the 1-D models), before the direction
-is clipped, each active contact point has its normal displacement
-s re-solved from a 1-D model along its normal n: the rest of the Newton
-matrix by its diagonal k (inertia and elasticity, barrier excluded), the
-rest's force as Newton's linear model predicts it where the direction carries
-the point, and the barrier exact,
+The contact normals solved against the barrier (:meth:`ContactPotential.relax`; nonlinear elimination: Lanzkron,
+Rose and Wilkes 1996, SIAM J. Sci. Comput. 17(2); Cai and Keyes 2002, SIAM J. Sci. Comput. 24(1)). Newton's linear
+model of b is poor within a few gaps of an obstacle (b' ~ -dhat^2 / d): a point carried towards an obstacle
+overshoots and is clipped deep into the barrier. So in a time step, before the direction is clipped, each active
+contact point has its normal displacement s re-solved from a 1-D model along its normal n: the rest of the Newton
+matrix by its diagonal k (barrier excluded), the rest's force as Newton's linear model predicts it, and the barrier
+exact,
 
     k (s - s_N) - kappa A_p (b'(d) + b''(d) s_N) + kappa A_p b'(d + s) = 0,
 
-s_N = n . (W dx)_p: Newton's model with the barrier's linearisation replaced
-by the barrier. Its 1-D energy is convex in s; a safeguarded 1-D Newton
-solves it. Newton (:mod:`deformable.solve.newton`) keeps the direction so changed
-when its step decreases the potential, else takes its own. It needs every
-contact point to be a degree of freedom's own point (FD's nodes, its
-default); sample points between the nodes (FE's, and FD's under
-``Contact(samples > 1)``, as the ``drape`` scene's) share their degrees of
-freedom, and there the direction stays Newton's. Measured on the ``sphere``
-scene, FD 64 x 64 nodes starting in contact (``deformable bench``): over the
-first 5 steps 3.40 -> 2.40 Newton iterations a step (221.8 -> 167.5 ms a
-step), over the first 40 steps 5.60 -> 4.55 (393.8 -> 334.5 ms; there the
-draped cloth's folds, away from the ball, hold Newton back); FD 32 x 32 over
-the whole 1.5 s, 6.36 -> 4.81 (43.0 -> 35.4 s).
+s_N = n . (W dx)_p. Its 1-D energy is convex in s; a safeguarded 1-D Newton solves it. Newton
+(:mod:`deformable.solve.newton`) keeps the direction so changed when its step decreases the potential, else takes
+its own. It needs every contact point to be a degree of freedom's own point (FD's nodes); with sample points between
+the nodes (FE's, FD's under ``Contact(samples > 1)``) the direction stays Newton's.
 
-Friction (IPC section 5): lagged, smoothed Coulomb friction with coefficient
-mu_f. At the start of each step (positions x_n) every active pair gets its
-normal force ``lambda = -kappa A_p b'(d_n)`` (N) and an orthonormal tangent
-basis T (3 x 2) of the obstacle's tangent plane at the point; both stay fixed
-through the step. With the tangential displacement u = T^T (r_p(x) - r_p(x_n))
-and eps_x = eps_v dt (eps_v: the slip speed below which friction is smoothed,
-m/s), the dissipative potential
+Friction (IPC section 5): lagged, smoothed Coulomb friction with coefficient mu_f. At the start of each step
+(positions x_n) every active pair gets its normal force ``lambda = -kappa A_p b'(d_n)`` (N) and an orthonormal
+tangent basis T (3 x 2) of the obstacle's tangent plane at the point, fixed through the step. With the tangential
+displacement u = T^T (r_p(x) - r_p(x_n)) and eps_x = eps_v dt (eps_v: the slip speed below which friction is
+smoothed, m/s), the dissipative potential
 
     D(x) = sum mu_f lambda f0(|u|),
     f0(y) = -y^3 / (3 eps_x^2) + y^2 / eps_x + eps_x / 3  (y < eps_x),  y otherwise
 
-gives the force ``-mu_f lambda f1(|u|) T u / |u|`` with f1 = f0' (1 for
-|u| >= eps_x: sliding, Coulomb's mu_f lambda; linear in |u| below: sticking,
-a creep slower than eps_v). Its Hessian
-``mu_f lambda T ((f1/y) I + (f1' - f1/y) / y^2 u u^T) T^T`` is positive
-semi-definite.
-
-The barrier function and the friction mollifier are :mod:`deformable.contact.barrier`; the
-contact points :mod:`deformable.contact.points`.
+gives the force ``-mu_f lambda f1(|u|) T u / |u|`` with f1 = f0' (1 for |u| >= eps_x: sliding, Coulomb's mu_f
+lambda; linear in |u| below: sticking). Its Hessian ``mu_f lambda T ((f1/y) I + (f1' - f1/y) / y^2 u u^T) T^T`` is
+positive semi-definite. The barrier function and the mollifier are :mod:`deformable.contact.barrier`'s; the contact
+points :mod:`deformable.contact.points`'.
 """
 from __future__ import annotations
 
@@ -99,8 +65,8 @@ def _normal_solve(k, rest, sN, d0, w, dhat, keep, iterations: int = 30):
     """Solve ``k (s - sN) + rest + w b'(d0 + s) = 0`` for s per point (:meth:`ContactPotential.relax`).
 
     The left side increases with s (k >= 0, b'' > 0: the 1-D energy is convex). Newton from s = sN, each iterate
-    keeping at least the fraction ``keep`` of the gap d0 + s it starts from (the start too, of d0), until every
-    step is below 1e-6 of its gap. All arrays (P,) (m, N/m, N); returns s (P,) (m).
+    keeping at least the fraction ``keep`` of the gap d0 + s it starts from (the start too, of d0), until every step
+    is below 1e-6 of its gap. All arrays (P,) (m, N/m, N); returns s (P,) (m).
     """
     s = np.maximum(sN, (keep - 1.0) * d0)
     for _ in range(iterations):
@@ -165,8 +131,8 @@ class ContactPotential:
     def lag(self, x, dt: float) -> None:
         """Freeze the friction's normal forces and tangent bases at the step's start x (flat), step dt (s).
 
-        Raises ValueError when a contact point of x is not strictly outside an obstacle (the barrier is
-        infinite there).
+        Raises ValueError when a contact point of x is not strictly outside an obstacle (the barrier is infinite
+        there).
         """
         x = np.asarray(x, float)
         require_outside(self.model, x.reshape(3, self.n).T, "the step's start")
@@ -222,8 +188,8 @@ class ContactPotential:
     def hessian(self, x, kind: str = "newton") -> sp.csr_matrix:
         """Hessian of B + D, (3 ndof, 3 ndof) on a fixed pattern (N/m).
 
-        ``kind`` "newton": exact; any other: the barrier's curvature term dropped (its projection onto the
-        positive semi-definite cone; the friction's Hessian is positive semi-definite as it is).
+        ``kind`` "newton": exact; any other: the barrier's curvature term dropped (its projection onto the positive
+        semi-definite cone; the friction's Hessian is positive semi-definite as it is).
         """
         r = self._positions(x)
         K = np.zeros((r.shape[0], 3, 3))
@@ -248,11 +214,9 @@ class ContactPotential:
         """A point between x and x + dx (flat) that keeps every contact point outside every obstacle.
 
         Each degree of freedom moves the fraction of its own dx that the contact points it carries allow (the
-        smallest of theirs, :meth:`max_step` per point), and the result is clipped once more along its segment
-        from x (exact for interpolated points that mix moved and held degrees of freedom). Unlike one common
-        fraction for the whole sheet, a few points near an obstacle do not hold back the rest of it: where an
-        implicit step starts its search (measured on the ``sphere`` scene, FD 64 x 64: the common fraction was
-        0.26-0.49).
+        smallest of theirs, :meth:`max_step` per point), and the result is clipped once more along its segment from
+        x (exact for interpolated points that mix moved and held degrees of freedom): a few points near an obstacle
+        do not hold back the rest of the sheet.
         """
         s = self._point_steps(x, dx)
         W = self.points.W
@@ -285,11 +249,12 @@ class ContactPotential:
         stiffness : array (3 ndof,)
             The diagonal of the Newton matrix without the contact's Hessian (N/m); 0 on held degrees of freedom.
 
-        Returns a new direction; dx itself when no point is active, or when some contact points are not a degree
-        of freedom's own (FE's sample points between the nodes: they share the nodes' degrees of freedom, so the
-        1-D models are not independent; relaxing the nodes alone measured worse, the ``sphere`` scene on FE 16 x 16
-        elements 7.65 -> 8.30 Newton iterations a step over its 1.5 s). Points near two obstacles at once keep
-        Newton's displacement.
+        Returns
+        -------
+        array (3 ndof,)
+            A new direction; dx itself when no point is active, or when some contact points are not a degree of
+            freedom's own (they share the nodes' degrees of freedom, so the 1-D models are not independent). Points
+            near two obstacles at once keep Newton's displacement.
         """
         own = self.points.owner
         if np.any(own < 0):

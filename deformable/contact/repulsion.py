@@ -1,13 +1,9 @@
-r"""TPBF87's obstacle force, for the paper's semi-implicit scheme.
+"""TPBF87's obstacle force, for the paper's semi-implicit scheme.
 
-The paper's own obstacle force (semi-implicit scheme; Terzopoulos et al. 1987,
-section 4, "Collisions"): an exponential force field along the obstacle's
-normal, ``f = c exp(-d / eps) n`` per unit area (c in N/m^2, eps = the
-contact ``distance``), evaluated at the start of each step like the other
-applied forces (:class:`Repulsion`). It is soft: a point pressed hard
-enough, or arriving fast enough within one step, goes through. It does not
-guarantee non-penetration, and is offered as the paper's model, not as a
-contact model one can rely on.
+The paper's own obstacle force (Terzopoulos et al. 1987, section 4, "Collisions"): an exponential force field along
+the obstacle's normal, ``f = c exp(-d / eps) n`` per unit area (c in N/m^2, eps = the contact ``distance``),
+evaluated at the start of each step like the other applied forces (:class:`Repulsion`). It is soft: a point pressed
+hard enough, or arriving fast enough within one step, goes through; it does not guarantee non-penetration.
 """
 
 from __future__ import annotations

@@ -1,21 +1,16 @@
-r"""The sheet as a triangle mesh for self-contact, and how close it comes to itself (the IPC Toolkit, ``ipctk``).
+"""The sheet as a triangle mesh for self-contact, and how close it comes to itself (the IPC Toolkit, ``ipctk``).
 
-The contact mesh's vertices are the sheet's contact points (:mod:`deformable.contact.points`): a sub-grid of the
-parameter rectangle mapped to the degrees of freedom by the fixed sparse matrix W, ``V = W X`` (FD: its nodes;
-FE: its sub-grid of spacing h / 2, so the cubic surface between nodes is in the mesh too). Each cell of the
-sub-grid is two triangles, split along the diagonal from (i, j) to (i + 1, j + 1); the edges are the
-triangles' edges. A quantity on the mesh's vertices maps back to the degrees of freedom exactly, by W^T.
+The contact mesh's vertices are the sheet's contact points (:mod:`deformable.contact.points`), ``V = W X`` (FD: its
+nodes; FE: its sub-grid of spacing h / 2). Each cell of the sub-grid is two triangles, split along the diagonal from
+(i, j) to (i + 1, j + 1). A quantity on the mesh's vertices maps back to the degrees of freedom exactly, by W^T.
 
-Which pairs may touch. Primitives that share a vertex never count (the IPC Toolkit's rule: a triangle and its
-own corner, two edges of one triangle). Beyond those, a pair closer than the thickness plus the activation
-distance in the rest mesh (the sheet's initial state) is excluded too: those are neighbours, not a fold meeting another fold.
-:attr:`ContactMesh.excluded` lists them (vertex pairs of the IPC Toolkit's ``can_collide``); on a flat rest
-sheet with the thickness plus the activation distance below the sub-grid's spacing there are none.
+Which pairs may touch. Primitives that share a vertex never count (the IPC Toolkit's rule). Beyond those, a pair
+closer than the thickness plus the activation distance in the rest mesh (the sheet's initial state) is excluded:
+neighbours, not folds. :attr:`ContactMesh.excluded` lists them (vertex pairs of the toolkit's ``can_collide``).
 
 What is measured (Li et al. 2020, "Incremental Potential Contact", ACM TOG 39(4): the same distances and
 intersection test): :meth:`ContactMesh.intersects`, whether two non-adjacent triangles of a state cross, and
-:meth:`ContactMesh.self_distance`, the smallest distance between non-adjacent primitives (point-triangle and
-edge-edge) within a search distance (m).
+:meth:`ContactMesh.self_distance`, the smallest distance between non-adjacent primitives within a search distance.
 """
 
 from __future__ import annotations
@@ -32,8 +27,8 @@ __all__ = ["ContactMesh", "grid_triangles", "vertex_map", "point_triangle_distan
 
 
 def grid_triangles(shape: tuple[int, int]) -> np.ndarray:
-    """The triangles (F, 3) of an m x n vertex grid, vertex (i, j) at i n + j: two a cell, counter-clockwise in
-    (a1, a2), split along the diagonal (i, j) - (i + 1, j + 1). F = 2 (m - 1) (n - 1)."""
+    """The triangles (F, 3) of an m x n vertex grid, vertex (i, j) at i n + j: two a cell, counter-clockwise in (a1,
+    a2), split along the diagonal (i, j) - (i + 1, j + 1). F = 2 (m - 1) (n - 1)."""
     m, n = shape
     if m < 2 or n < 2:
         raise ValueError(f"a contact mesh needs at least 2 x 2 vertices, got {m} x {n}")
@@ -100,8 +95,8 @@ def segment_distances(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.nda
 
 def vertex_map(W) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """The map (3 P, 3 ndof) from a flat coordinate-blocked state x (a ndof + k) to the contact mesh's vertices as
-    the IPC Toolkit orders them (3 p + a), for the map W (P, ndof) of the contact points; and its transpose,
-    which takes the toolkit's gradients (3 P,) back to the degrees of freedom."""
+    the IPC Toolkit orders them (3 p + a), for the map W (P, ndof) of the contact points; and its transpose, which
+    takes the toolkit's gradients (3 P,) back to the degrees of freedom."""
     P = W.shape[0]
     W3 = sp.kron(sp.identity(3, format="csr"), W, format="csr")
     order = (3 * np.arange(P)[None, :] + np.arange(3)[:, None]).ravel()  # blocked index a P + p -> 3 p + a
@@ -122,8 +117,8 @@ class ContactMesh:
     rest : array (ndof, 3), optional
         The rest mesh's state (default: the model's initial state).
     thickness : float
-        The sheet's thickness dmin (m): the barrier's distances count from it, and pairs closer than
-        ``thickness + distance`` in the rest mesh are excluded.
+        The sheet's thickness dmin (m): the barrier's distances count from it, and pairs closer than ``thickness +
+        distance`` in the rest mesh are excluded.
 
     Attributes
     ----------
@@ -156,9 +151,9 @@ class ContactMesh:
         return np.asfortranarray(self.points.positions(np.asarray(X, float)))
 
     def collisions(self, V, distance: float | None = None, area_weighting: bool = False):
-        """The IPC Toolkit's normal collisions of vertices V (P, 3): the pairs closer than the thickness plus
-        the activation distance, their barrier counted from the thickness; ``distance`` (m): the pairs closer than
-        it, with no thickness (a measurement). ``area_weighting``: each weighted by its primitives' rest areas (the
+        """The IPC Toolkit's normal collisions of vertices V (P, 3): the pairs closer than the thickness plus the
+        activation distance, their barrier counted from the thickness; ``distance`` (m): the pairs closer than it,
+        with no thickness (a measurement). ``area_weighting``: each weighted by its primitives' rest areas (the
         barrier's weights)."""
         collisions = ipctk.NormalCollisions()
         collisions.use_area_weighting = area_weighting
@@ -170,10 +165,9 @@ class ContactMesh:
 
     def _close_at_rest(self) -> frozenset:
         """The vertex pairs across every pair of primitives (point-triangle, edge-edge) closer than the activation
-        distance in the rest mesh: each pair of the two primitives' vertices, so that no collision between them
-        is left, whichever feature is closest. The IPC Toolkit's broad phase finds the candidates; their distances
-        are computed all at once (:func:`point_triangle_distances`, :func:`segment_distances`; one by one in
-        Python they took 47 s at FD 128 x 128 nodes and more than 17 minutes at 256 x 256)."""
+        distance in the rest mesh, each pair of the two primitives' vertices. The IPC Toolkit's broad phase finds
+        the candidates; their distances are computed all at once (:func:`point_triangle_distances`,
+        :func:`segment_distances`)."""
         reach = self.thickness + self.distance
         candidates = ipctk.Candidates()
         candidates.build(self.mesh, self.rest, 0.5 * reach)  # boxes grown by half the reach: every pair within it
@@ -200,8 +194,8 @@ class ContactMesh:
         return bool(ipctk.has_intersections(self.mesh, self.vertices(X)))
 
     def self_distance(self, X, within: float | None = None) -> float:
-        """The smallest distance between primitives of state X (ndof, 3) that may touch (m); inf when none is
-        closer than ``within`` (m, default the activation distance)."""
+        """The smallest distance between primitives of state X (ndof, 3) that may touch (m); inf when none is closer
+        than ``within`` (m, default the activation distance)."""
         within = self.distance if within is None else float(within)
         V = self.vertices(X)
         collisions = self.collisions(V, within)

@@ -1,27 +1,20 @@
-r"""The self-contact barrier and friction over flat vectors, with the collision-free step (the IPC Toolkit, ``ipctk``).
+"""The self-contact barrier and friction over flat vectors, with the collision-free step (the IPC Toolkit, ``ipctk``).
 
 On the contact mesh (:class:`deformable.contact.selfmesh.ContactMesh`: vertices ``V = W X``), every pair of
-primitives that may touch (point-triangle, edge-edge; rest neighbours excluded) within the activation distance
-dhat beyond the sheet's thickness dmin adds IPC's barrier, and the pairs in contact at a step's start its lagged
-friction between folds (Coulomb's ``Contact.self_friction``): :class:`deformable.contact.trianglebarrier.TriangleBarrier`
-(the formulas, the collision-free step, the map to the degrees of freedom).
-
-The thickness dmin (``Contact(thickness=...)``) offsets every distance: the barrier is infinite at d = dmin, and
-the collision-free step keeps every pair at least dmin apart, so no two fold faces come closer than the thickness.
+primitives that may touch (point-triangle, edge-edge; rest neighbours excluded) within the activation distance dhat
+beyond the sheet's thickness dmin adds IPC's barrier, and the pairs in contact at a step's start its lagged friction
+between folds (Coulomb's ``Contact.self_friction``): :class:`deformable.contact.trianglebarrier.TriangleBarrier`.
+The thickness dmin (``Contact(thickness=...)``) offsets every distance: no two fold faces come closer than it.
 
 The stiffness. kappa (N/m^5) is by default chosen from the sheet's motion, not its weight
 (:func:`deformable.contact.trianglebarrier.motion_stiffness`): the kinetic energy per area of a fold closing at the
 speed v (``Contact.self_speed``, 2 m/s), mu v^2 / 2, is the barrier's energy per area at a gap of dmin + dhat / 10.
 The log barrier's energy grows only as ln(1/d) below dhat, so a barrier sized by the weight (as the analytic
-obstacles' is, :meth:`deformable.contact.settings.Contact.barrier_stiffness`) lets a fast fold into round-off
-distances: measured on the ``sphere`` scene (FD 32 x 32 nodes, 1.5 s), the weight's kappa (9.3e7 N/m^5) brought
-two folds to 3e-7 m by t = 0.27 s and Newton's line search stalled at t = 0.33 s (no step down to dt_min); 100
-times it ran through with folds 1.2e-7 m apart, 1000 times with 2.7e-4 m (the rule above gives 8.9e10 N/m^5
-there, 960 times the weight's).
+obstacles' is) would let a fast fold into round-off distances.
 
 In Newton's method (:mod:`deformable.solve.newton`, through :class:`deformable.contact.terms.ContactTerms`) S joins
 the potential of each implicit step, its Hessian on a pattern that grows, and every direction is clipped to
-:meth:`SelfContactPotential.max_step`, so no iterate, tried or taken, passes the sheet through itself.
+:meth:`SelfContactPotential.max_step`, so no iterate passes the sheet through itself.
 """
 
 from __future__ import annotations
@@ -56,8 +49,8 @@ class SelfContactPotential(TriangleBarrier):
     friction : float
         Coulomb's coefficient mu_f between folds of the sheet (0: frictionless).
     slip : float
-        eps_v (m/s): below this tangential speed friction is smoothed (a creep instead of a stick); over a step
-        dt the smoothing length is eps_x = eps_v dt.
+        eps_v (m/s): below this tangential speed friction is smoothed (a creep instead of a stick); over a step dt
+        the smoothing length is eps_x = eps_v dt.
 
     Attributes
     ----------
@@ -81,12 +74,12 @@ class SelfContactPotential(TriangleBarrier):
         return self.mesh.vertices(np.asarray(x, float).reshape(3, self.n).T)
 
     def carry(self, x, dx, held) -> np.ndarray:
-        """dx (flat) with the sheet in the way of its moving held part carried along: every vertex of a primitive that
-        a candidate pair of the motion (the broad phase of x to x + dx) puts against a primitive the held motion
-        moves, if it is its own degree of freedom's point (FD's nodes, FE's node values; :attr:`ContactPoints.owner`)
-        and free, takes the displacement of the moving primitive's fastest vertex. A drawn edge pushing the sheet
-        gathered beside it: where the held motion alone would press the sheet through itself, the sheet in front of
-        it moves with it, and Newton's method finds where it goes from there
+        """dx (flat) with the sheet in the way of its moving held part carried along: every vertex of a primitive
+        that a candidate pair of the motion (the broad phase of x to x + dx) puts against a primitive the held
+        motion moves, if it is its own degree of freedom's point (FD's nodes, FE's node values;
+        :attr:`ContactPoints.owner`) and free, takes the displacement of the moving primitive's fastest vertex. A
+        drawn edge pushing the sheet gathered beside it: where the held motion alone would press the sheet through
+        itself, the sheet in front of it moves with it, and Newton's method finds where it goes from there
         (:meth:`deformable.contact.terms.ContactTerms.safe_start`)."""
         x, dx = np.asarray(x, float), np.asarray(dx, float)
         V0, V1 = self.vertices(x), self.vertices(x + dx)

@@ -1,14 +1,5 @@
-r"""How the sheet meets the scene's obstacles: :class:`Contact`, the settings of the barrier and friction.
-
-The barrier's activation distance dhat, Coulomb's coefficient, the barrier
-stiffness kappa (by default the sheet's own weight mu g rests at dhat / 10),
-the friction's smoothing speed, the contact points per cell side, the method
-(the barrier of the implicit schemes, or the paper's exponential force of
-the semi-implicit scheme) and the fraction of a safe step a Newton step may
-take (:mod:`deformable.contact.potential`, :mod:`deformable.contact.repulsion`),
-and the sheet against itself: the self-contact's activation distance, the
-sheet's thickness and Coulomb's coefficient between its folds
-(:mod:`deformable.contact.selfpotential`).
+"""How the sheet meets the scene's obstacles and itself: :class:`Contact`, the settings of the barrier and friction
+(:mod:`deformable.contact.potential`, :mod:`deformable.contact.repulsion`, :mod:`deformable.contact.selfpotential`).
 """
 
 from __future__ import annotations
@@ -52,43 +43,37 @@ class Contact:
     Parameters
     ----------
     distance : float
-        The activation distance dhat of the barrier (m); for the exponential
-        force, its length eps.
+        The activation distance dhat of the barrier (m); for the exponential force, its length eps.
     friction : float
         Coulomb's coefficient mu_f against the obstacles (0: frictionless).
     stiffness : float or None
-        The barrier's kappa (N/m^3); None: the sheet's own weight rests at
-        dhat / 10.
+        The barrier's kappa (N/m^3); None: the sheet's own weight rests at dhat / 10.
     slip : float
-        eps_v (m/s): below this tangential speed friction (against the
-        obstacles and between folds of the sheet) is smoothed (a creep instead
-        of a stick).
+        eps_v (m/s): below this tangential speed friction (against the obstacles and between folds) is smoothed (a
+        creep instead of a stick).
     samples : int or None
-        Contact points per cell side; None: the backend's own (FD 1, the
-        nodes; FE 2).
+        Contact points per cell side; None: the backend's own (FD 1, the nodes; FE 2).
     method : "barrier" or "exponential"
-        The barrier with friction (implicit schemes), or the paper's
-        exponential force (semi-implicit scheme; no guarantee).
+        The barrier with friction (implicit schemes), or the paper's exponential force (semi-implicit scheme; no
+        guarantee).
     pressure : float or None
         c of the exponential force (N/m^2); None: 100 times the sheet's weight per area.
     margin : float
         The fraction, in (0, 1), of the largest safe step a Newton step may take.
     self_distance : float or None
-        The activation distance of the self-contact barrier (m): the sheet
-        against itself, beyond ``thickness`` (implicit schemes, a force model
-        with an energy); None or 0: no self-contact.
+        The activation distance of the self-contact barrier (m), beyond ``thickness`` (implicit schemes, a force
+        model with an energy); None or 0: no self-contact.
     thickness : float
-        The sheet's thickness (m): no two primitives of the sheet's contact
-        mesh that may touch come closer than it (0: they only never cross).
+        The sheet's thickness (m): no two primitives of the contact mesh that may touch come closer (0: they only
+        never cross).
     self_stiffness : float or None
-        The self-contact barrier's kappa (N/m^5); None: two folds closing at
-        ``self_speed`` stop at a gap of thickness + self_distance / 10.
+        The self-contact barrier's kappa (N/m^5); None: two folds closing at ``self_speed`` stop at a gap of
+        thickness + self_distance / 10.
     self_speed : float
-        The closing speed (m/s) the default self-contact stiffness is sized for
-        (and the mesh obstacles' largest, their start when one moves).
+        The closing speed (m/s) the default self-contact stiffness is sized for (and the mesh obstacles' largest,
+        their start when one moves).
     self_friction : float
-        Coulomb's coefficient between folds of the sheet (0: frictionless),
-        smoothed below ``slip`` as the obstacles' friction is.
+        Coulomb's coefficient between folds of the sheet (0: frictionless), smoothed below ``slip``.
     """
 
     distance: float = 1e-3

@@ -1,29 +1,23 @@
-r"""A scene's contact terms in one potential: the obstacles' barrier and friction, the sheet's self-contact barrier.
+"""A scene's contact terms in one potential: the obstacles' barrier and friction, the sheet's self-contact barrier.
 
-Newton's method (:mod:`deformable.solve.newton`) sees one contact term of the
-potential (:class:`deformable.solve.potential.FlatEnergy` holds it) and one
-direction filter; :class:`ContactTerms` is both, over whichever of the two
-parts the scene has:
+Newton's method (:mod:`deformable.solve.newton`) sees one contact term of the potential
+(:class:`deformable.solve.potential.FlatEnergy` holds it) and one direction filter; :class:`ContactTerms` is both,
+over whichever parts the scene has:
 
-- the obstacles (:class:`deformable.contact.potential.ContactPotential`):
-  barrier and lagged friction, their Hessian on a fixed pattern, the exact
-  safe step of the analytic shapes, the contact normals solved against the
-  barrier (its ``propose``);
+- the analytic obstacles (:class:`deformable.contact.potential.ContactPotential`): barrier and lagged friction,
+  their Hessian on a fixed pattern, the exact safe step, the contact normals solved against the barrier
+  (``propose``);
 - the mesh obstacles (:class:`deformable.contact.meshpotential.MeshObstaclePotential`): the barrier between the
-  sheet's triangles and theirs, whose Hessian's pattern follows the pairs in contact, the collision-free step of
-  continuous collision detection, and a moving obstacle's prescribed motion over the step;
+  sheet's triangles and theirs, the collision-free step of continuous collision detection, and a moving obstacle's
+  prescribed motion over the step;
 - the sheet against itself (``Contact(self_distance=...)``,
-  :class:`deformable.contact.selfpotential.SelfContactPotential`): the barrier
-  on the contact mesh, whose Hessian's pattern follows the pairs in contact
-  (:meth:`ContactTerms.loose_hessians`), and the collision-free step of
-  continuous collision detection.
+  :class:`deformable.contact.selfpotential.SelfContactPotential`): the barrier on the contact mesh and the
+  collision-free step. The last two have Hessians whose pattern follows the pairs in contact
+  (:meth:`ContactTerms.loose_hessians`).
 
-Every direction is clipped to the smallest of the safe steps
-(:meth:`ContactTerms.max_step`), so no iterate, tried or taken, carries a
-contact point into an obstacle or a fold through the sheet (Li et al. 2020,
-"Incremental Potential Contact", ACM TOG 39(4), section 4: the line search
-bounded by the collision-free step). The start of each implicit step is made
-safe the same way (:meth:`ContactTerms.safe_start`).
+Every direction is clipped to the smallest of the safe steps (:meth:`ContactTerms.max_step`), so no iterate carries
+a contact point into an obstacle or a fold through the sheet (Li et al. 2020, "Incremental Potential Contact", ACM
+TOG 39(4), section 4). The start of each implicit step is made safe the same way (:meth:`ContactTerms.safe_start`).
 """
 
 from __future__ import annotations
@@ -88,8 +82,8 @@ class ContactTerms:
 
     @property
     def step_test(self) -> bool:
-        """Whether Newton's step test may end a solve (:mod:`deformable.solve.newton`, "Convergence tests"): not with
-        analytic obstacles, whose proposals (:meth:`propose`) change Newton's directions; the CCD parts (mesh
+        """Whether Newton's step test may end a solve (:mod:`deformable.solve.newton`, "Convergence tests"): not
+        with analytic obstacles, whose proposals (:meth:`propose`) change Newton's directions; the CCD parts (mesh
         obstacles, self-contact) only cut a direction short, and a direction cut short ends no solve."""
         return self.obstacles is None
 
@@ -144,16 +138,13 @@ class ContactTerms:
         stand at the step's end, and clear of itself.
 
         ``held`` (int array): the degrees of freedom a constraint prescribes, whose part of dx is their prescribed
-        motion over the step; they move all of it. The whole step first, everything moving together (the held
-        degrees of freedom, the obstacles and the rest along dx): taken where it is collision-free. Else, against
-        the meshes and the sheet, that prescribed motion and the mesh obstacles' own come first, with the sheet
-        within reach of a moving obstacle, or of its own moving held part, carried along
-        (:meth:`MeshObstaclePotential.carry`, :meth:`SelfContactPotential.carry`); the others then take one
-        fraction of the rest of the way. Measured on the curtain (FD 20 x 20 nodes, 2 s), whose drawn corner
-        meets the folds stacked beside it: with the held motion always first, 51 steps were rejected; with the
-        whole step first, 3; with the sheet carried, none. When even that would press the sheet through itself or
-        an obstacle through the sheet (or within the thickness), StepRejected: the time stepper retries a shorter
-        step, over which the sheet has less far to give way (:attr:`blocked` counts these).
+        motion over the step; they move all of it. The whole step first, everything moving together: taken where it
+        is collision-free. Else, against the meshes and the sheet, that prescribed motion and the mesh obstacles'
+        own come first, with the sheet within reach of a moving obstacle, or of its own moving held part, carried
+        along (:meth:`MeshObstaclePotential.carry`, :meth:`SelfContactPotential.carry`); the others then take one
+        fraction of the rest of the way. When even that would press the sheet through itself or an obstacle through
+        the sheet (or within the thickness), StepRejected: the time stepper retries a shorter step (:attr:`blocked`
+        counts these).
         """
         dx = np.asarray(dx, float)
         x1 = x + dx if self.obstacles is None else self.obstacles.safe_start(x, dx)
@@ -191,8 +182,7 @@ class ContactTerms:
 
     # -- the direction filter (deformable.solve.newton.DirectionFilter) ---------------------------------------
     def max_step(self, x, dx) -> float:
-        """The largest fraction in (0, 1] of dx that keeps every part's guarantee: the smallest of their safe
-        steps."""
+        """The largest fraction in (0, 1] of dx that keeps every part's guarantee: the smallest of their safe steps."""
         alpha = 1.0
         for p in self._parts:
             alpha = min(alpha, p.max_step(x, alpha * np.asarray(dx)) * alpha)

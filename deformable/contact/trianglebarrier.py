@@ -1,82 +1,61 @@
-r"""IPC's barrier and lagged friction on a triangle mesh that carries the sheet, over flat vectors (``ipctk``).
+"""IPC's barrier and lagged friction on a triangle mesh that carries the sheet, over flat vectors (``ipctk``).
 
-One class, :class:`TriangleBarrier`, serves the two contacts that meet the sheet primitive against primitive
-on an IPC Toolkit mesh: the sheet against itself (:mod:`deformable.contact.selfpotential`, the contact mesh of
+One class, :class:`TriangleBarrier`, serves the two contacts that meet the sheet primitive against primitive on an
+IPC Toolkit mesh: the sheet against itself (:mod:`deformable.contact.selfpotential`, the contact mesh of
 :class:`deformable.contact.selfmesh.ContactMesh`) and the sheet against triangle-mesh obstacles
-(:mod:`deformable.contact.meshpotential`, the sheet's contact mesh followed by the obstacles' triangles). The
-sheet's P vertices come first, ``V = W X`` (W the fixed map of the contact points, :mod:`.points`); the rest,
-if any, are prescribed (obstacles), not degrees of freedom.
+(:mod:`deformable.contact.meshpotential`). The sheet's P vertices come first, ``V = W X`` (W the fixed map of the
+contact points, :mod:`.points`); the rest, if any, are prescribed (obstacles), not degrees of freedom.
 
-The barrier. Every pair of primitives that may touch (point-triangle, edge-edge) within the activation distance
-dhat beyond the thickness dmin adds the IPC barrier of its squared distance (Li et al. 2020, "Incremental
-Potential Contact", ACM TOG 39(4), eq. (6) on d^2, as the IPC Toolkit writes it; offset by dmin),
+The barrier. Every pair of primitives that may touch (point-triangle, edge-edge) within the activation distance dhat
+beyond the thickness dmin adds the IPC barrier of its squared distance (Li et al. 2020, "Incremental Potential
+Contact", ACM TOG 39(4), eq. (6) on d^2, as the IPC Toolkit writes it; offset by dmin),
 
     b(s; shat) = -(s - shat)^2 ln(s / shat)   for 0 < s < shat,  0 beyond,
     S(x) = kappa sum_c A_c b(d_c^2 - dmin^2; dhat^2 + 2 dmin dhat)                   (J)
 
-with A_c the pair's area weight (the toolkit's area weighting: the vertex or edge areas of the rest mesh, m^2)
-and the stiffness kappa (N/m^5) each subclass chooses (:func:`motion_stiffness` sizes it by a closing speed).
-S is infinite at d = dmin; the energy is +inf where two triangles cross. Its gradient and Hessian are the
-toolkit's with respect to the mesh's vertices, each pair's Hessian projected onto the positive semi-definite
-cone (the toolkit's clamping of its eigenvalues); the sheet's rows map to the degrees of freedom by W,
-``grad_x = W^T grad_V`` and ``H_x = W^T H_V W`` per coordinate block; prescribed vertices' rows are dropped.
-The Hessian's pattern follows the pairs in contact: it enters Newton's matrix on a pattern that grows
-(:meth:`deformable.algebra.reduced.ReducedSystem.free_block`'s ``loose`` matrices).
+with A_c the pair's area weight (the vertex or edge areas of the rest mesh, m^2) and the stiffness kappa (N/m^5)
+each subclass chooses (:func:`motion_stiffness` sizes it by a closing speed). S is infinite at d = dmin; the energy
+is +inf where two triangles cross. Its gradient and Hessian are the toolkit's with respect to the vertices, each
+pair's Hessian projected onto the positive semi-definite cone; the sheet's rows map to the degrees of freedom by W,
+``grad_x = W^T grad_V`` and ``H_x = W^T H_V W`` per coordinate block; prescribed vertices' rows are dropped. The
+Hessian's pattern follows the pairs in contact: it enters Newton's matrix as a ``loose`` matrix
+(:meth:`deformable.algebra.upper.FreeUpper.assemble`).
 
-The collision-free step, :meth:`TriangleBarrier.max_step`: the toolkit's continuous collision detection along
-a straight step of the sheet (additive CCD: Li, Kaufman and Jiang 2021, "Codimensional Incremental Potential
-Contact", ACM TOG 40(4), section 5, conservative advancement to the minimum separation dmin), ``margin`` of the
-collision-free fraction. Measured on a fold closing at 10 m/s (FD 24 x 24 nodes, 103 Newton directions): 0.30 s
-CPU against Tight-Inclusion CCD's 7.4 s (Wang et al. 2021; tolerance 1e-6, 10^4 iterations), its steps within
-0.1 of the latter's; capped at 10^6 iterations. Every Newton direction is clipped to it, so no iterate, tried or
-taken, passes one primitive through another or within dmin of it.
+The collision-free step, :meth:`TriangleBarrier.max_step`: ``margin`` of the fraction of a straight step that the
+toolkit's continuous collision detection finds collision-free (additive CCD: Li, Kaufman and Jiang 2021,
+"Codimensional Incremental Potential Contact", ACM TOG 40(4), section 5, conservative advancement to the minimum
+separation dmin; at most :data:`CCD_ITERATIONS` iterations). Every Newton direction is clipped to it. Before any CCD
+a conservative bound (:meth:`TriangleBarrier.free_fraction`): a pair's distance falls along a straight motion by at
+most the largest relative motion of its vertices, so where every vertex moves less than half its distance to the
+nearest pair it is in (beyond dmin) the whole step is collision-free.
 
-The broad phase. Every pair the barrier or the collision-free step may need is found once a step and kept: the
-IPC Toolkit's candidates (``ipctk.Candidates``) of the straight motion from V_0 to V_1 that the step first asks
-about (the whole step's start: :meth:`deformable.contact.terms.ContactTerms.safe_start`), each primitive's box swept
-along its vertices' segments and grown by half the reach (dhat + dmin) / 2 plus a margin m = (dhat + dmin) / 4.
-While every vertex stays within m of its segment (the *tube*), any pair closer than dhat + dmin (the barrier's) is a
-candidate: each of its primitives lies within m of a primitive inside its swept box, so the boxes' gap is below
-dhat + dmin + 2 m. So is any pair that comes within dmin along a straight motion whose both ends lie in the tube
-(the collision-free step: the tube is convex). So every barrier evaluation (the narrow phase over the candidates)
-and every collision-free step (CCD over the candidates) of the step's Newton iterations and line-search trials
-reuses it; a state outside the tube builds it again on the motion asked about then. It is built anew at every
-step's start (:meth:`TriangleBarrier.lag`), so a resumed run builds the same ones. Measured on the curtain (FD 64
-x 64 nodes, its first second): 35 000 candidates, 1.03 broad phases a step; a tube of the motion's plain ball
-(radius 1.25 times the motion, at least dhat + dmin) held 148 000 and made each step 50 % dearer.
+The broad phase. Every pair the barrier or the collision-free step may need is found once a step and kept: the IPC
+Toolkit's candidates (``ipctk.Candidates``) of the straight motion from V_0 to V_1 that the step first asks about,
+each primitive's box swept along its vertices' segments and grown by (dhat + dmin) / 2 plus a margin m = (dhat +
+dmin) / 4. While every vertex stays within m of its segment (the *tube*), any pair closer than dhat + dmin, and any
+pair that comes within dmin along a straight motion with both ends in the tube, is a candidate; a state outside the
+tube builds it again on the motion asked about then. It is built anew at every step's start
+(:meth:`TriangleBarrier.lag`), so a resumed run builds the same ones.
 
-The collision-free step. Before any CCD a conservative bound (:meth:`TriangleBarrier.free_fraction`): a pair's
-distance falls along a straight motion by at most the largest relative motion of its vertices, so where every
-vertex moves less than half its distance to the nearest pair it is in (beyond dmin; at an iterate whose barrier
-pairs are known, where every vertex moves less than half of min(dhat, the closest pair's distance - dmin)) the
-whole step is collision-free. On the FD 20 curtain the CCD returned a full step in 98.8 % of its calls; the bound
-settles most of those (the bench's self-contact rows count them).
-
-Friction (IPC section 5: lagged, smoothed Coulomb friction; the analytic obstacles' is the same,
-:mod:`deformable.contact.potential`), with Coulomb's coefficient mu_f and the slip speed eps_v (m/s,
-``Contact.slip``) below which it is smoothed. At the start of each implicit step (vertices V_n, step dt;
-:meth:`TriangleBarrier.lag`) every pair of the barrier within reach gets, frozen through the step, its normal force
+Friction (IPC section 5: lagged, smoothed Coulomb friction, as :mod:`deformable.contact.potential`'s), with
+Coulomb's coefficient mu_f and the slip speed eps_v (m/s, ``Contact.slip``) below which it is smoothed. At the start
+of each implicit step (vertices V_n, step dt; :meth:`TriangleBarrier.lag`) every pair of the barrier within reach
+gets, frozen through the step, its normal force
 
     lambda_c = A_c kappa |d b(d^2 - dmin^2) / dd| = -2 kappa A_c d b'(d^2 - dmin^2)   at d = d_c(V_n)        (N)
 
-(the toolkit's ``normal_force_magnitude`` times the pair's area weight), its orthonormal tangent basis T_c
-(3 x 2) of the plane across which the pair meets at V_n (nearly parallel edges, whose barrier the toolkit
-mollifies, get no friction) and the barycentric coordinates of its closest points, which make the relative
-displacement operator Gamma_c (3 x 12). Through the step, with the displacement of the vertices U = V(x) - V_n (m;
-a prescribed vertex's own motion over the step included, so a sheet carried by a moving obstacle does not slip)
-and u_c = T_c^T Gamma_c U (m, the pair's tangential slip over the step),
+its orthonormal tangent basis T_c (3 x 2) of the plane across which the pair meets (nearly parallel edges get no
+friction) and the barycentric coordinates of its closest points, which make the relative displacement operator
+Gamma_c (3 x 12). With U = V(x) - V_n (m; a prescribed vertex's own motion included, so a sheet carried by a moving
+obstacle does not slip) and u_c = T_c^T Gamma_c U (m),
 
     D(x) = sum_c mu_f lambda_c f0(|u_c|),   eps_x = eps_v dt                                                 (J)
     f0(y) = -y^3 / (3 eps_x^2) + y^2 / eps_x + eps_x / 3   (y < eps_x),   y otherwise                     (m)
 
-is the toolkit's ``FrictionPotential(eps_x)`` evaluated on the displacements U (its ``eps_v`` is a length here,
-and its potential, the force (N) times the mollified length, joules). It equals dt times the toolkit's velocity
-form (``FrictionPotential(eps_v)`` on U / dt, watts): f0 is homogeneous of degree one in (y, eps), so
-f0_{eps_v dt}(|u|) = dt f0_{eps_v}(|u| / dt). D's gradient (N), ``mu_f lambda_c f1(|u_c|) Gamma_c^T T_c u_c /
-|u_c|`` (f1 = f0', 1 once sliding, |u_c| >= eps_x: Coulomb's force mu_f lambda_c against the slip; below, a creep
-slower than eps_v), and its Hessian (N/m, positive semi-definite) join the barrier's. Without a lag (x_n
-unknown), or with mu_f = 0, there is no friction, and the barrier's value, gradient and Hessian are computed
-exactly as without it.
+is the toolkit's ``FrictionPotential(eps_x)`` on the displacements U, dt times its velocity form (f0 is homogeneous
+of degree one in (y, eps)). D's gradient (N), ``mu_f lambda_c f1(|u_c|) Gamma_c^T T_c u_c / |u_c|`` (f1 = f0', 1
+once sliding: Coulomb's force against the slip), and its Hessian (N/m, positive semi-definite) join the barrier's.
+Without a lag, or with mu_f = 0, there is no friction.
 """
 
 from __future__ import annotations
@@ -203,9 +182,9 @@ class TriangleBarrier:
         self.seconds[name] += time.perf_counter() - t0
 
     def _candidates(self, V0, V1=None):
-        """The broad phase's candidate pairs, valid for the vertices V0 and, if given, the straight motion from V0 to
-        V1 (module docstring, "The broad phase"): the kept ones while both lie within the kept tube, else new ones
-        on the tube of the motion asked about."""
+        """The broad phase's candidate pairs, valid for the vertices V0 and, if given, the straight motion from V0
+        to V1 (module docstring, "The broad phase"): the kept ones while both lie within the kept tube, else new
+        ones on the tube of the motion asked about."""
         kept = self._kept
         if kept is not None and _in_tube(V0, *kept[:3]) and (V1 is None or _in_tube(V1, *kept[:3])):
             return kept[3]
@@ -262,8 +241,8 @@ class TriangleBarrier:
         return collisions
 
     def _at(self, x):
-        """The vertices and the barrier's collisions of a flat state x, kept for the next call at the same x (energy,
-        gradient and Hessian at one iterate build them once)."""
+        """The vertices and the barrier's collisions of a flat state x, kept for the next call at the same x
+        (energy, gradient and Hessian at one iterate build them once)."""
         x = np.asarray(x, float)
         if self._last is not None and np.array_equal(self._last[0], x):
             return self._last[1], self._last[2]
@@ -287,8 +266,8 @@ class TriangleBarrier:
 
     # -- friction ------------------------------------------------------------------------
     def lag(self, x, dt: float) -> None:
-        """Freeze the friction at the step's start x (flat), step dt (s): each pair's normal force and tangent
-        basis there, and the smoothing length eps_x = eps_v dt (module docstring). Nothing without friction."""
+        """Freeze the friction at the step's start x (flat), step dt (s): each pair's normal force and tangent basis
+        there, and the smoothing length eps_x = eps_v dt (module docstring). Nothing without friction."""
         self._lagged = None
         self._kept = None  # a broad phase of its own for every step, built where the step first asks
         self.begin(x)
@@ -347,8 +326,8 @@ class TriangleBarrier:
         return self._sheet(g)
 
     def hessian(self, x) -> sp.csr_matrix:
-        """The Hessian of S + D with each pair's part projected onto the positive semi-definite cone, (3 ndof,
-        3 ndof) (N/m). Its pattern follows the pairs in contact and the friction's lagged pairs (no entries without
+        """The Hessian of S + D with each pair's part projected onto the positive semi-definite cone, (3 ndof, 3
+        ndof) (N/m). Its pattern follows the pairs in contact and the friction's lagged pairs (no entries without
         one)."""
         V, collisions = self._at(x)
         if len(collisions) == 0 and self._lagged is None:
@@ -370,8 +349,8 @@ class TriangleBarrier:
     # -- the collision-free step -------------------------------------------------------------
     def free_fraction(self, V0, V1, collisions=None) -> float:
         """The collision-free fraction in [0, 1] of the straight motion from vertices V0 to V1 (no pair within the
-        thickness on the way): 1 where a conservative bound shows it (module docstring, "The collision-free
-        step"; ``collisions``: the barrier's at V0, when known), else the toolkit's CCD over the candidates."""
+        thickness on the way): 1 where a conservative bound shows it (module docstring, "The collision-free step";
+        ``collisions``: the barrier's at V0, when known), else the toolkit's CCD over the candidates."""
         V0, V1 = np.asfortranarray(V0), np.asfortranarray(V1)
         candidates = self._candidates(V0, V1)
         t0 = time.perf_counter()
@@ -395,8 +374,8 @@ class TriangleBarrier:
             self._clock("ccd", t0)
 
     def max_step(self, x, dx) -> float:
-        """The fraction in (0, 1] of the step dx (flat) that x may take with no pair coming closer than the thickness
-        on the way (``margin`` of the collision-free fraction when that is below 1)."""
+        """The fraction in (0, 1] of the step dx (flat) that x may take with no pair coming closer than the
+        thickness on the way (``margin`` of the collision-free fraction when that is below 1)."""
         x = np.asarray(x, float)
         last = self._last
         collisions = last[2] if last is not None and np.array_equal(last[0], x) else None

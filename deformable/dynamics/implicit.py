@@ -1,49 +1,38 @@
-r"""Implicit time steps for models with an energy: the Newton step both implicit schemes share.
+"""Implicit time steps for models with an energy: the Newton step both implicit schemes share.
 
-For a model whose internal force is the gradient of an energy E (the exact
-gradient of eq. (13), or the quadratic energy of the frozen model), each step
-minimises an incremental potential over the free degrees of freedom by
-Newton's method (:class:`deformable.solve.newton.Newton`). With M, C, F the
-backend's integrated matrices and load and x-hat = x_n + dt v_n:
+For a model whose internal force is the gradient of an energy E (the exact gradient of eq. (13), or the quadratic
+energy of the frozen model), each step minimises an incremental potential over the free degrees of freedom by
+Newton's method (:class:`deformable.solve.newton.Newton`). With M, C, F the backend's integrated matrices and load
+and x-hat = x_n + dt v_n:
 
-- ``"implicit-euler"`` (:mod:`.implicit_euler`; first order, dissipative: with
-  gamma = 0 and no load the total energy does not grow)::
+- ``"implicit-euler"`` (:mod:`.implicit_euler`; first order, dissipative: with gamma = 0 and no load the total
+  energy does not grow)::
 
       Phi(x) = |x - x-hat|^2_M / (2 dt^2) + |x - x_n|^2_C / (2 dt) + E(x) - F_{n+1} . x
       v_{n+1} = (x_{n+1} - x_n) / dt
 
-- ``"newmark"`` (:mod:`.newmark`; beta = 1/4, gamma = 1/2, the trapezoidal rule:
-  second order, no numerical damping of linear modes)::
+- ``"newmark"`` (:mod:`.newmark`; beta = 1/4, gamma = 1/2, the trapezoidal rule: second order, no numerical damping
+  of linear modes)::
 
       Phi(x) = 2 |x - x-hat|^2_M / dt^2 - (M a_n) . x + |x - x_n|^2_C / dt - (C v_n) . x + E(x) - F_{n+1} . x
       a_{n+1} = 4 (x_{n+1} - x-hat) / dt^2 - a_n,   v_{n+1} = 2 (x_{n+1} - x_n) / dt - v_n
 
-The stationarity of Phi is the equation of motion (11) at t_{n+1} in each scheme.
-A scheme of this kind is a subclass of :class:`Implicit` that gives its
-Newton matrix's multipliers of M and C, its potential, the start of its
-search and its update of v and a.
+The stationarity of Phi is the equation of motion (11) at t_{n+1}. A scheme of this kind is a subclass of
+:class:`Implicit` that gives its Newton matrix's multipliers of M and C, its potential, the start of its search and
+its update of v and a.
 
-External forces (:mod:`deformable.physics.loads`): applied loads are F_{n+1}; the
-scene's springs are part of E (their anchors at t_{n+1}); the wind, which
-depends on velocities, is linearised about the start of the step,
-``f(v) = f_n - D_n (v - v_n)`` with its velocity Jacobian D_n (a positive
-semi-definite damping): each scheme then takes it exactly like C, with
-C + D_n in place of C and f_n + D_n v_n added to F_{n+1}. The step stays
-unconditionally stable in the wind's damping; the wind's dependence on the
-normal (positions) is lagged, a first-order error in time.
+External forces (:mod:`deformable.physics.loads`): applied loads are F_{n+1}; the springs are part of E (anchors at
+t_{n+1}); the wind is linearised about the start of the step, ``f(v) = f_n - D_n (v - v_n)`` with its velocity
+Jacobian D_n (positive semi-definite), taken like C: C + D_n in place of C and f_n + D_n v_n added to F_{n+1}. The
+step stays unconditionally stable in the wind's damping; its dependence on the normal is lagged (first order).
 
-Contact (:mod:`deformable.contact`): the scene's obstacles add the barrier
-and the friction to E; the friction's normal forces and tangent bases are
-lagged, frozen at x_n for the step (:meth:`ContactPotential.lag`). The
-search starts from the predictor only as far as the segment from x_n to it
-stays outside the obstacles (clipped like a Newton step), and the tolerance's
-scale, the force imbalance at x-hat, leaves the contact forces out (at rest on
-an obstacle they balance the weight, and the scale would vanish).
+Contact (:mod:`deformable.contact`): the obstacles add the barrier and the friction to E, the friction's normal
+forces and tangent bases lagged at x_n (:meth:`.potential.ContactPotential.lag`). The search starts from the
+predictor only as far as the segment from x_n to it stays outside the obstacles, and the tolerance's scale (the
+force imbalance at x-hat) leaves the contact forces out, which would balance the weight at rest.
 
-dt may change from step to step (the controller halves it when Newton does
-not converge and lets it grow back): both schemes take the step length as an
-argument. A step whose Newton solve does not reach its tolerance is never
-returned: it raises :class:`StepRejected`.
+Both schemes take the step length as an argument (the controller may shorten it). A step whose Newton solve does not
+reach its tolerance is never returned: it raises :class:`StepRejected`.
 """
 
 from __future__ import annotations
@@ -159,8 +148,8 @@ class Implicit(Scheme):
     def step(self, state: State, X0: np.ndarray, dt: float) -> State:
         """The state at t + dt; ``X0`` is the run's constraint reference.
 
-        Raises StepRejected when Newton does not converge (the state is not advanced), DivergenceError
-        when positions leave the finite numbers.
+        Raises StepRejected when Newton does not converge (the state is not advanced), DivergenceError when
+        positions leave the finite numbers.
         """
         fl = self.flat
         t1 = state.t + dt

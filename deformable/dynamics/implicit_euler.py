@@ -3,9 +3,8 @@ r"""Implicit Euler on the incremental potential (first order, dissipative):
     Phi(x) = |x - x-hat|^2_M / (2 dt^2) + |x - x_n|^2_C / (2 dt) + E(x) - F_{n+1} . x,
     v_{n+1} = (x_{n+1} - x_n) / dt,   a_{n+1} = (v_{n+1} - v_n) / dt,
 
-x-hat = x_n + dt v_n; its stationarity is eq. (11) at t_{n+1}. With gamma = 0
-and no load the total energy does not grow: the right choice with contact
-(:mod:`.implicit` holds the Newton step).
+x-hat = x_n + dt v_n; its stationarity is eq. (11) at t_{n+1}. With gamma = 0 and no load the total energy does not
+grow: the right choice with contact (:mod:`.implicit` holds the Newton step).
 """
 
 from __future__ import annotations

@@ -1,12 +1,11 @@
-r"""Newmark's trapezoidal rule (beta = 1/4, gamma = 1/2) on the incremental potential: second order, no
-numerical damping of linear modes:
+r"""Newmark's trapezoidal rule (beta = 1/4, gamma = 1/2) on the incremental potential: second order, no numerical
+damping of linear modes:
 
     Phi(x) = 2 |x - x-hat|^2_M / dt^2 - (M a_n) . x + |x - x_n|^2_C / dt - (C v_n) . x + E(x) - F_{n+1} . x,
     a_{n+1} = 4 (x_{n+1} - x-hat) / dt^2 - a_n,   v_{n+1} = 2 (x_{n+1} - x_n) / dt - v_n,
 
-x-hat = x_n + dt v_n; its stationarity is eq. (11) at t_{n+1}. It conserves
-energy better than implicit Euler and gains energy at impacts
-(:mod:`.implicit` holds the Newton step).
+x-hat = x_n + dt v_n; its stationarity is eq. (11) at t_{n+1}. It conserves energy better than implicit Euler and
+gains energy at impacts (:mod:`.implicit` holds the Newton step).
 """
 
 from __future__ import annotations

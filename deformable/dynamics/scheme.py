@@ -1,18 +1,11 @@
-r"""What a time-stepping scheme is: a registered class that advances a state by one step.
+"""What a time-stepping scheme is: a registered class that advances a state by one step.
 
-A scheme is one class with a ``name`` (the project's one registry,
-:mod:`deformable.registry`), built for a model and a step,
-``Scheme.lookup(name)(model, dt, newton=..., solver=...)``, with
-:meth:`Scheme.step` ``(state, X0, dt) -> State`` and its ``timings``. The
-controller (:class:`deformable.dynamics.TimeStepper`) knows no scheme: it
-asks the class whether the model's force model suits it
-(:meth:`Scheme.check`), whether it adapts its step (``adaptive``) and
-whether it solves Newton's method (``implicit``), and runs it.
-
-Registered here: ``"semi-implicit"`` (the paper's eq. (22)-(27),
-:mod:`.semi_implicit`), ``"implicit-euler"`` and ``"newmark"`` (Newton steps
-on an incremental potential, :mod:`.implicit`, :mod:`.implicit_euler`,
-:mod:`.newmark`).
+A scheme is one class with a ``name`` (the registry of :mod:`deformable.registry`), built as
+``Scheme.lookup(name)(model, dt, newton=..., solver=...)``, with :meth:`Scheme.step` ``(state, X0, dt) -> State``
+and its ``timings``. The controller (:class:`deformable.dynamics.TimeStepper`) knows no scheme: it asks the class
+whether the force model suits it (:meth:`Scheme.check`), whether it adapts its step (``adaptive``) and whether it
+solves Newton's method (``implicit``). Registered here: ``"semi-implicit"`` (eq. (22)-(27), :mod:`.semi_implicit`),
+``"implicit-euler"`` and ``"newmark"`` (:mod:`.implicit`, :mod:`.implicit_euler`, :mod:`.newmark`).
 """
 
 from __future__ import annotations
@@ -63,11 +56,8 @@ class Scheme(Registered, family="scheme"):
     remembers: ClassVar[tuple[str, ...]] = ()
 
     def memory(self) -> dict:
-        """What the scheme carries from one step to the next besides the state, as numbers (name -> number or
-        table of numbers; its keys among :attr:`remembers`).
-
-        A checkpoint keeps it, so that a resumed run is the same run; none by default.
-        """
+        """What the scheme carries from one step to the next besides the state, as numbers (name -> number or table
+        of numbers; its keys among :attr:`remembers`); a checkpoint keeps it. None by default."""
         return {}
 
     def retune(self, model) -> None:

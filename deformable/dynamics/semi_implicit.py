@@ -1,34 +1,24 @@
-r"""The paper's semi-implicit step of the semi-discrete system (21), eq. (22)-(27).
+"""The paper's semi-implicit step of the semi-discrete system (21), eq. (22)-(27).
 
     A_t R_{t+dt} = G_t,                                           (24)
     A_t = K(r_t) + M/dt^2 + C/(2 dt),                             (25)
     G_t = F_t + (M/dt^2 + C/(2 dt)) R_t + (M/dt - C/2) V_t,       (26)
     V_t = (R_t - R_{t-dt})/dt.                                    (27)
 
-The stiffness is lagged (evaluated at r_t) and the force at t, so each step
-is one linear solve. Written once over the :class:`~deformable.backends.Backend`
-contract; backends differ only in space.
+The stiffness is lagged (evaluated at r_t) and the force at t, so each step is one linear solve, written once over
+the :class:`~deformable.backends.Backend` contract. For one undamped linear mode of frequency w the amplification
+per step is ``(1 + w^2 dt^2)^(-1/2)`` and the phase advance ``atan(w dt)``: first order, numerically damped. Lagging
+alpha makes the step conditionally stable: dt below :meth:`~deformable.backends.Backend.stable_step` (FD: about ``h
+sqrt(mu / (2 eta G))``).
 
-Numerics (docs/design.md): for one undamped linear mode of frequency w the
-amplification per step is ``(1 + w^2 dt^2)^(-1/2)`` and the phase advance
-``atan(w dt)``: first order in time, numerically damped. Lagging alpha makes
-the step only conditionally stable on stretching: dt below the backend's
-:meth:`~deformable.backends.Backend.stable_step` (FD: about ``h sqrt(mu / (2 eta G))``).
+A_t lives on one fixed pattern refilled each step (:class:`deformable.algebra.reduced.ReducedSystem`), held degrees
+of freedom eliminated by precomputed gathers; each group of coordinates that shares its constraints is factorised
+once per step (:mod:`deformable.algebra.solvers`) and solved for all its right-hand sides; once per run for a linear
+("frozen") model.
 
-Cost: K(r) keeps its sparsity pattern, so A_t lives on one fixed pattern
-whose data is refilled each step (:class:`deformable.algebra.reduced.ReducedSystem`);
-constrained degrees of freedom are eliminated through precomputed gathers;
-each group of coordinates that shares its constraints is factorised once per
-step (:mod:`deformable.algebra.solvers`: SuperLU with a symmetric ordering, or PARDISO
-when installed) and solved for all its right-hand sides together. When the
-model is linear (the "frozen" force model) the factorisation is done once for
-the run.
-
-Obstacles: this scheme takes the paper's own obstacle force, the exponential
-field ``c exp(-d / eps) n`` of :class:`deformable.contact.Repulsion` (contact
-method "exponential"), evaluated at the start of the step with the other
-forces. It does not guarantee non-penetration; the barrier of the implicit
-schemes does.
+Obstacles: the paper's exponential field ``c exp(-d / eps) n`` (:class:`deformable.contact.Repulsion`, contact
+method "exponential") at the start of the step. It does not guarantee non-penetration; the implicit schemes' barrier
+does.
 """
 
 from __future__ import annotations
@@ -47,9 +37,8 @@ from .state import State
 
 __all__ = ["OTHER_STEPS", "SemiImplicit", "SPLU_OPTIONS"]
 
-#: the schemes at other step lengths kept for reuse, the most recently used: the steps shortened to end on frame
-#: times differ only by the round-off of summing dt (the hanging cloth, FD 8 x 8, 10 to 20 s with frames every
-#: 0.02 to 0.1 s: 12 to 15 lengths over 200 to 500 frames, each built once with 4 kept)
+#: the schemes at other step lengths kept for reuse, the most recently used (steps shortened to end on frame times
+#: differ only by the round-off of summing dt)
 OTHER_STEPS = 4
 
 
@@ -140,10 +129,10 @@ class SemiImplicit(Scheme):
     def step(self, state: State, X0: np.ndarray, dt: float | None = None) -> State:
         """The state at t + dt by eq. (24); ``X0`` is the run's constraint reference.
 
-        ``dt``: this scheme's own by default; another one (a run's shorter last step, or a step shortened to end
-        on a frame time) is taken by the same scheme built for it, with its own step matrix; the
-        :data:`OTHER_STEPS` most recently used of those are kept. A singular step matrix, or positions that
-        leave the finite numbers, raise DivergenceError with ``state`` as the last good one.
+        ``dt``: this scheme's own by default; another one (a run's shorter last step, or a step shortened to end on
+        a frame time) is taken by the same scheme built for it, with its own step matrix; the :data:`OTHER_STEPS`
+        most recently used of those are kept. A singular step matrix, or positions that leave the finite numbers,
+        raise DivergenceError with ``state`` as the last good one.
         """
         if dt is not None and dt != self.dt:
             other = self._other.pop(dt, None) or SemiImplicit(self.model, dt, solver=self.solver)

@@ -13,9 +13,9 @@ __all__ = ["State", "RunResult"]
 class State:
     """A point of the trajectory: time t (s), positions X and velocities V, (ndof, 3), and the step number.
 
-    ``A``, (ndof, 3) or None: the acceleration the implicit schemes found at this state (m/s^2); Newmark
-    steps from it and both schemes start their Newton search with it (a checkpoint keeps it, so that a
-    resumed run is the same run).
+    ``A``, (ndof, 3) or None: the acceleration the implicit schemes found at this state (m/s^2); Newmark steps from
+    it and both schemes start their Newton search with it (a checkpoint keeps it, so that a resumed run is the same
+    run).
     """
 
     t: float
@@ -29,9 +29,8 @@ class State:
 class RunResult:
     """Outcome of :meth:`deformable.TimeStepper.run`.
 
-    ``state`` is the last good state; ``status`` is "finished", "stopped" (a
-    tracker asked to stop), "diverged" (non-finite, or a tracker's bound) or
-    "stalled" (an implicit step did not converge down to the smallest dt);
+    ``state`` is the last good state; ``status`` is "finished", "stopped" (a tracker asked to stop), "diverged"
+    (non-finite, or a tracker's bound) or "stalled" (an implicit step did not converge down to the smallest dt);
     ``message`` says why.
     """
 

@@ -1,49 +1,30 @@
-r"""The time stepper: a controller that runs a scheme under trackers (py-pde's controller pattern).
+"""The time stepper: a controller that runs a scheme under trackers (py-pde's controller pattern).
 
-:class:`TimeStepper` chooses the scheme for the model's force model, starts a
-run (the constraint reference X0), advances it step by step
-(:meth:`~TimeStepper.iterate`), and runs it under trackers
-(:meth:`~TimeStepper.run`: progress, output, energy, divergence guard), each
-of which watches at its own cadence and may stop the run. The schemes know
-nothing of the run, and the controller knows no scheme: it looks the scheme up
-by name in the registry (:class:`~deformable.dynamics.scheme.Scheme`), the force
-model's own ``scheme`` by default, and asks it whether it suits the force model:
+:class:`TimeStepper` chooses the scheme for the model's force model, starts a run (the constraint reference X0),
+advances it step by step (:meth:`~TimeStepper.iterate`), and runs it under trackers (:meth:`~TimeStepper.run`:
+progress, output, energy, divergence guard), each watching at its own cadence and free to stop the run. The schemes
+know nothing of the run, and the controller knows no scheme: it looks the scheme up by name in the registry
+(:class:`~deformable.dynamics.scheme.Scheme`), the force model's own ``scheme`` by default:
 
-- ``"semi-implicit"``: the paper's eq. (22)-(27) (:mod:`deformable.dynamics.semi_implicit`),
-  for force models with a strength matrix (tpbf87 and frozen: their default);
-- ``"implicit-euler"`` and ``"newmark"``: Newton steps on an incremental
-  potential (:mod:`deformable.dynamics.implicit`), for force models with an
-  energy (an energy density's default is implicit Euler).
+- ``"semi-implicit"``: the paper's eq. (22)-(27) (:mod:`deformable.dynamics.semi_implicit`), for force models with a
+  strength matrix (tpbf87 and frozen: their default); its old name ``"tpbf87"`` warns (DeprecationWarning);
+- ``"implicit-euler"`` and ``"newmark"``: Newton steps on an incremental potential
+  (:mod:`deformable.dynamics.implicit`), for force models with an energy (their default: implicit Euler).
 
-The old name of the paper's scheme, ``"tpbf87"`` (also a force model's name),
-is still accepted with a DeprecationWarning.
+Step size. ``dt="auto"`` is the backend's own (:mod:`deformable.dynamics.dt`); with it the implicit schemes also aim
+at :data:`TARGET_ITERATIONS` Newton iterations a step. The implicit schemes adapt dt: a step whose Newton solve does
+not reach its tolerance is retried with half the step, and dt doubles back after :data:`GROW_AFTER` accepted steps
+up to the requested one; a run that would need a step below ``dt_min`` (default dt / 2^10) stops with the status
+"stalled" and its last good state. A run to ``t_end`` ends exactly there with every scheme (the semi-implicit one
+adds one shorter step, with its own step matrix, when ``t_end - t`` is not a whole number of steps to within 1e-6 of
+a step). Likewise the step that would pass a time a tracker asks for
+(:meth:`~deformable.dynamics.trackers.Tracker.next_time`, e.g. the XDMF writer's frame times) is shortened to end on
+it, so a frame is a state of the run at its time.
 
-Step size. ``dt="auto"`` takes the semi-implicit scheme's stable step from the
-backend (half of :meth:`~deformable.backends.Backend.stable_step`, rounded
-down to two significant digits); the implicit schemes are stable at any dt, and "auto"
-lets them choose it: at most ten times the stretching bound of an explicit
-step on the same grid, smaller while Newton needs many iterations
-(:data:`TARGET_ITERATIONS`). The implicit schemes adapt dt: a step whose
-Newton solve does not reach its tolerance is retried with half the step, and
-dt grows back (doubling after :data:`GROW_AFTER` accepted steps) up to the
-requested one; a run that would
-need a step below ``dt_min`` (default the requested dt / 2^10) stops with the
-status "stalled" and its last good state. A run to ``t_end`` ends exactly there with every scheme: the implicit
-schemes shorten their last step, and the semi-implicit scheme runs whole steps
-of its fixed dt and then one shorter step (with its own step matrix) when
-``t_end - t`` is not a whole number of steps (to within 1e-6 of a step).
-The same holds for the times a run's trackers ask for
-(:meth:`~deformable.dynamics.trackers.Tracker.next_time`: the XDMF writer's frame times): the step that
-would pass one is shortened to end on it, and whole steps go on from there, so a frame is a state of the
-run at its time, not one interpolated between two steps. A run whose dt divides those intervals (to 1e-6
-of a step), and a run whose trackers ask for no time, takes the same steps as before, bit for bit.
-
-Bounds on work. ``dt`` is at least :data:`DT_MIN` (below it M/dt^2 swamps every
-stiffness in double precision and a step moves nothing); a run is at most
-:attr:`TimeStepper.max_steps` steps (:data:`MAX_STEPS`; set it to None to lift
-the cap). Bad arguments raise :class:`~deformable.errors.InputError`; a singular
-step matrix or a non-finite state ends the run with the status "diverged" and
-the last good state, never with a SciPy error.
+Bounds on work. ``dt`` is at least :data:`DT_MIN` (below it M/dt^2 swamps every stiffness in double precision); a
+run is at most :attr:`TimeStepper.max_steps` steps (:data:`MAX_STEPS`; None lifts the cap). Bad arguments raise
+:class:`~deformable.errors.InputError`; a singular step matrix or a non-finite state ends the run with the status
+"diverged" and the last good state, never with a SciPy error.
 """
 
 from __future__ import annotations
@@ -93,13 +74,12 @@ class TimeStepper:
     dt : float or "auto"
         Time step (s), positive; "auto": the backend's own (module docstring).
     scheme : str, optional
-        "semi-implicit" (eq. 22-27, the default for the tpbf87 and frozen
-        models), "implicit-euler" (the default for the variational model) or
-        "newmark" (second order): Newton steps on an incremental potential,
-        for models with an energy (:mod:`deformable.dynamics.implicit`).
+        "semi-implicit" (eq. 22-27, the default for the tpbf87 and frozen models), "implicit-euler" (the default for
+        the variational model) or "newmark" (second order): Newton steps on an incremental potential, for models
+        with an energy (:mod:`deformable.dynamics.implicit`).
     newton : dict or NewtonSettings, optional
-        rtol, atol, max_iter, hessian, solver, reuse of the Newton solves of the
-        implicit schemes (:class:`deformable.solve.newton.NewtonSettings`).
+        rtol, atol, max_iter, hessian, solver, reuse of the Newton solves of the implicit schemes
+        (:class:`deformable.solve.newton.NewtonSettings`).
     dt_min : float, optional
         The smallest step the implicit schemes may adapt down to (default dt / 2^10).
     solver : str
@@ -151,10 +131,9 @@ class TimeStepper:
         self._scheme = kind(model, self.dt, newton=newton, solver=solver)
 
     def retune(self, model) -> None:
-        """Go on with ``model`` from the state at hand: the same discretisation, grid and held degrees of freedom,
-        other material values (mu, gamma, eta, xi) and loads, as a slider of ``deformable view`` asks. The implicit
-        schemes keep their solver (the Newton matrix's pattern, the factorisation's analysis, the compiled kernels)
-        and refill its values; InputError when the model does not fit."""
+        """Go on with ``model`` from the state at hand: the same backend, grid and held degrees of freedom, other
+        material values (mu, gamma, eta, xi) and loads (a slider of ``deformable view``). The implicit schemes keep
+        their solver's pattern, analysis and compiled kernels; InputError when the model does not fit."""
         if type(model) is not type(self.model) or model.ndof != self.model.ndof:
             raise InputError("retune: the new model must be of the same backend and grid", field="model",
                              value=type(model).__name__)
@@ -164,8 +143,8 @@ class TimeStepper:
 
     @property
     def timings(self) -> dict:
-        """Seconds per part of the steps so far (semi-implicit: assembly, factorisation, solve; implicit: the
-        Newton solves' hessian, factor, solve, search)."""
+        """Seconds per part of the steps so far (semi-implicit: assembly, factorisation, solve; implicit: the Newton
+        solves' hessian, factor, solve, search)."""
         return self._scheme.timings
 
     @property
@@ -175,7 +154,8 @@ class TimeStepper:
 
     @property
     def newton_reports(self) -> list:
-        """Newton iterations and residuals per accepted step of the implicit schemes (empty for the semi-implicit one)."""
+        """Newton iterations and residuals per accepted step of the implicit schemes (empty for the semi-implicit
+        scheme)."""
         return getattr(self._scheme, "reports", [])
 
     @property
@@ -194,15 +174,12 @@ class TimeStepper:
         return np.frombuffer(self._taken, dtype=float).copy()
 
     def memory(self) -> dict:
-        """What the controller carries from step to step, as numbers: a checkpoint keeps it (:meth:`restore`).
+        """What the controller carries from step to step, as numbers, for a checkpoint (:meth:`restore`).
 
-        ``dt_now`` (the adapted step, s), ``accepted`` (steps accepted since dt last changed: dt doubles
-        after :data:`GROW_AFTER` of them), ``rejected`` (steps retried so far) and the scheme's own
-        (:meth:`Scheme.memory`: Newton's round-off floor and where a factorisation lagged across steps was
-        made), and under ``trackers`` that of the trackers of
-        the current run that keep one (by class name: the divergence guard's energy budget and peaks). The
-        state (X, V, A, t, step) is the rest of what the next step depends on; with both, a resumed run is
-        the same run bit for bit, its guard's decisions included.
+        ``dt_now`` (the adapted step, s), ``accepted`` (steps accepted since dt last changed), ``rejected`` (steps
+        retried so far), the scheme's own (:meth:`Scheme.memory`) and, under ``trackers``, the memories of the
+        current run's trackers that keep one (by class name). With the state (X, V, A, t, step), a resumed run is
+        the same run bit for bit.
         """
         trackers = {type(tr).__name__: tr.memory() for tr in self._trackers if callable(getattr(tr, "memory", None))}
         return {"dt_now": self.dt_now, "accepted": self._accepted, "rejected": self.rejected,
@@ -211,8 +188,8 @@ class TimeStepper:
     def restore(self, memory: dict) -> None:
         """Take up the controller's memory (:meth:`memory`) of another stepper of the same run.
 
-        Raises InputError naming the key when ``memory`` is not such a dict (an unknown key, a step outside
-        [dt_min, dt], a negative count).
+        Raises InputError naming the key when ``memory`` is not such a dict (an unknown key, a step outside [dt_min,
+        dt], a negative count).
         """
         if not isinstance(memory, dict):
             raise InputError(f"memory must be a dict of the controller's numbers, got {memory!r:.60}", field="memory",
@@ -313,9 +290,8 @@ class TimeStepper:
                  t_end: float | None = None) -> Iterator[State]:
         """Yield the state after each step from (X0, V0) at t0: ``steps`` of them, or until ``t_end``.
 
-        The last step before ``t_end`` is shortened to end on it (module docstring). Raises
-        DivergenceError if positions become non-finite and StalledError if dt falls below ``dt_min``
-        (each with the last good state).
+        The last step before ``t_end`` is shortened to end on it (module docstring). Raises DivergenceError if
+        positions become non-finite and StalledError if dt falls below ``dt_min`` (each with the last good state).
         """
         state = X0 if isinstance(X0, State) else self.start(X0, V0, t0)
         for state, _ in self._iterate(state, steps, t_end):
@@ -324,12 +300,9 @@ class TimeStepper:
     def _iterate(self, state: State, steps: int | None, t_end: float | None, stops=None,
                  planned: int | None = None) -> Iterator[tuple[State, bool]]:
         """:meth:`iterate` from ``state``, each state with whether it is the last; ``stops(state)``: the next time
-        (s) a tracker asks for, or None, on which a step is to end (:meth:`_landing`).
-
-        ``planned``: the step number a run to ``t_end`` of an adaptive scheme was planned to end on
-        (:meth:`length`); the state that reaches it is also called the last, as it was before steps landed on
-        trackers' times (a run without such steps is the same run, its trackers called at the same states).
-        """
+        (s) a tracker asks for, or None, on which a step is to end (:meth:`_landing`). ``planned``: the step number
+        a run to ``t_end`` of an adaptive scheme was planned to end on (:meth:`length`); the state that reaches it,
+        unless a step landed on a tracker's time, is also called the last."""
         if not hasattr(self, "_X0"):
             self._X0 = state.X
         taken, landed = 0, False
@@ -386,10 +359,9 @@ class TimeStepper:
         """The steps a run from time ``t`` takes (the requested ones of an adaptive run), checked.
 
         Steps shortened to end on the times trackers ask for are not counted (at most one more for each such time
-        that no whole step reaches).
-
-        Exactly one of ``t_end`` and ``steps``; InputError for a bad value, ResourceError beyond
-        :attr:`max_steps`. :meth:`run` calls it first; a caller can check a run before it writes anything.
+        that no whole step reaches). Exactly one of ``t_end`` and ``steps``; InputError for a bad value,
+        ResourceError beyond :attr:`max_steps`. :meth:`run` calls it first; a caller can check a run before it
+        writes anything.
         """
         if (t_end is None) == (steps is None):
             raise InputError("give exactly one of t_end and steps")
@@ -416,16 +388,12 @@ class TimeStepper:
         progress: bool | str = False,
         resume: State | None = None,
     ) -> RunResult:
-        """Run to ``t_end`` (s) or for ``steps`` steps under a set of trackers.
+        """Run to ``t_end`` (s) or for ``steps`` steps under a set of trackers (:mod:`deformable.dynamics.trackers`).
 
-        Trackers (see :mod:`deformable.dynamics.trackers`) watch the run at their own
-        cadence and may stop it. A :class:`~deformable.dynamics.trackers.DivergenceGuard`
-        is added unless one is given; a diverging run stops at that step and
-        the result holds the last good state. ``progress``: True (or a name to
-        start its lines with) adds a :class:`~deformable.dynamics.trackers.ProgressBar`:
-        a bar on a terminal, a timestamped line each tenth of the run elsewhere.
-        A step that would pass a time a tracker asks for (its ``next_time``) is shortened to end on it
-        (module docstring); such steps count among the run's ``steps``.
+        A :class:`~deformable.dynamics.trackers.DivergenceGuard` is added unless one is given; a diverging run stops
+        at that step and the result holds the last good state. ``progress``: True (or a name to start its lines
+        with) adds a :class:`~deformable.dynamics.trackers.ProgressBar`. A step that would pass a time a tracker
+        asks for (its ``next_time``) is shortened to end on it; such steps count among the run's ``steps``.
         """
         state = self.start(X0, V0, t0)
         if resume is not None:

@@ -1,16 +1,10 @@
-r"""Trackers: small observers of a run (py-pde's controller/tracker pattern).
+"""Trackers: small observers of a run (py-pde's controller/tracker pattern).
 
-Each tracker has a cadence ``every`` (in steps) and three hooks:
-``initialize(state, stepper, steps)``, ``handle(state) -> Stop | None`` and
-``finalize(result)``. Returning a :class:`Stop` from ``handle`` ends the run;
-``Stop(diverged=True)`` discards the state just computed and hands back the
-previous one.
-
-A tracker may also ask for states at times of its own, ``next_time(state) -> float | None``
-(:meth:`Tracker.next_time`): :meth:`deformable.TimeStepper.run` then ends a step on each of them, shortening
-the step that would pass it as it shortens the last step before ``t_end``, so that the tracker handles a
-state of the run at that time (the XDMF writer's frames every ``interval`` seconds:
-:class:`deformable.io.XDMFWriter`).
+Each tracker has a cadence ``every`` (in steps) and three hooks: ``initialize(state, stepper, steps)``,
+``handle(state) -> Stop | None`` and ``finalize(result)``. Returning a :class:`Stop` from ``handle`` ends the run;
+``Stop(diverged=True)`` discards the state just computed and hands back the previous one. A tracker may also ask for
+states at times of its own (:meth:`Tracker.next_time`): :meth:`deformable.TimeStepper.run` then ends a step on each
+of them (the XDMF writer's frames, :class:`deformable.io.XDMFWriter`).
 """
 
 from __future__ import annotations
@@ -43,12 +37,10 @@ def next_stop(trackers, state) -> float | None:
 
 def landing(stop: float | None, t: float, whole: float, t_end: float | None) -> float | None:
     """The step (s) from time ``t`` that ends on ``stop`` (a time a tracker asks for) when a whole step ``whole``
-    would pass it; None when it would not, when nothing is asked, or when ``stop`` is the run's end (on which the
-    stepper's own rule ends).
+    would pass it; None when it would not, when nothing is asked, or when ``stop`` is the run's end.
 
-    A time within :data:`REMAINDER` of a whole step of ``t``, or of where a whole step ends, is taken as reached
-    by it: the round-off of summing dt. A run whose dt divides the trackers' intervals therefore takes the same
-    whole steps as one without them, bit for bit.
+    A time within :data:`REMAINDER` of a whole step of ``t``, or of where a whole step ends, is taken as reached by
+    it (the round-off of summing dt), so a run whose dt divides the trackers' intervals takes whole steps only.
     """
     if stop is None or (t_end is not None and stop >= t_end - REMAINDER * whole):
         return None
@@ -80,10 +72,9 @@ class Tracker:
     def next_time(self, state) -> float | None:
         """The next time (s) after ``state.t`` at which this tracker wants a state of the run, or None (the default).
 
-        :meth:`deformable.TimeStepper.run` asks it before each step and shortens a step that would pass that
-        time so that it ends on it (to round-off; a whole step that ends within :data:`REMAINDER` of its length
-        before it is on it). A tracker that asks should handle every step (``every = 1``): the state at its time
-        is then among those it sees.
+        :meth:`deformable.TimeStepper.run` asks it before each step and shortens a step that would pass that time so
+        that it ends on it (within :data:`REMAINDER` of a step). A tracker that asks should handle every step
+        (``every = 1``).
         """
         return None
 
@@ -105,10 +96,10 @@ class Callback(Tracker):
 class ProgressBar(Tracker):
     """How far a run is, on stderr (:class:`deformable.progress.Progress`).
 
-    A tqdm bar on a terminal; elsewhere (a pipe, a log) a timestamped line at each tenth of the run and at
-    least every 30 s of wall time: the simulated time reached of the run's end (s), the steps taken, the
-    Newton iterations of the implicit schemes, the wall time elapsed and an estimate of the time left. The work
-    is measured in simulated seconds for a run to ``t_end``, in steps for a run of ``steps``.
+    A tqdm bar on a terminal; elsewhere a timestamped line at each tenth of the run and at least every 30 s of wall
+    time: the simulated time reached (s), the steps taken, the Newton iterations of the implicit schemes, the wall
+    time elapsed and an estimate of the time left. The work is simulated seconds for a run to ``t_end``, steps for a
+    run of ``steps``.
 
     Parameters
     ----------
@@ -185,57 +176,34 @@ class EnergyMonitor(Tracker):
 class DivergenceGuard(Tracker):
     """Stop a run that leaves finite numbers or the range where its states are physical.
 
-    The bounds are meant to trip *before* the sheet is destroyed, so that the
-    last good state a diverged run hands back (and the frames before it) are
-    still a sheet: a blow-up of a time step grows the energy by orders of
-    magnitude within a few steps and stretches the grid far beyond anything a
-    cloth does, while a stable run's energy stays of the order of the work its
-    loads can do.
+    The bounds trip *before* the sheet is destroyed, so that the last good state a diverged run hands back is still
+    a sheet: a blow-up grows the energy by orders of magnitude within a few steps, while a stable run's energy stays
+    of the order of the work its loads can do.
 
     Parameters
     ----------
     max_displacement : float, optional
-        Bound on max |X - X0| (scene units); default 100 times the diagonal
-        of the parameter rectangle.
+        Bound on max |X - X0| (scene units); default 100 times the diagonal of the parameter rectangle.
     max_stretch : float or None
-        Bound on how much any grid edge between neighbouring nodes may grow
-        against the initial state (default 3: an edge three times its length);
-        None: unchecked.
+        Bound on how much any grid edge between neighbouring nodes may grow against the initial state (default 3: an
+        edge three times its length); None: unchecked.
     max_energy : float, optional
         Bound on the elastic energy of eq. (13) (J); unchecked by default.
     energy_growth : float or None
-        Bound on the growth of the total energy E (elastic + kinetic): the run
-        diverged when E exceeds ``energy_growth`` times the larger of the
-        energy scale of the scene and the largest E seen more than
-        :attr:`WINDOW` checks before (default 10). The scale is the largest of
-        E at the start, the work of the loads at the start over one diagonal of
-        the sheet (sum of |F| times the diagonal) and the energy of the sheet
-        stretched by 10 % everywhere. None: unchecked.
+        Bound on the growth of the total energy E (elastic + kinetic): diverged when E exceeds ``energy_growth``
+        times the larger of the scene's energy scale and the largest E seen more than :attr:`WINDOW` checks before
+        (default 10). The scale is the largest of E at the start, the work of the loads at the start over one
+        diagonal of the sheet (sum of |F| times the diagonal) and the energy of the sheet stretched by 10 %
+        everywhere. None: unchecked.
     kinetic_budget : float or None
-        Bound on the kinetic energy K, the speeds of the run, against the
-        energy the sheet can have received (default 2; must exceed 1): the run
-        diverged when K exceeds ``kinetic_budget`` times its total energy at
-        the start (eq. (13), kinetic, springs) plus an upper bound of the work
-        done on it since, by its loads (sum over the free coordinates of |F|
-        times the path, max(|dX|, |V| dt), between checks: gravity, edge and
-        point loads, springs, wind) and by its held nodes (|internal force|
-        times their prescribed path, and their own kinetic energy). Energy is
-        not created by the equation of motion (11) with an elastic force that
-        is the gradient of an energy (the damping and implicit Euler only
-        remove it), so a K above that budget is made by the numerics, or by
-        a force that is no such gradient: the paper's force (14) at xi = 1
-        N m makes it at any dt (1e-4 to 2.5e-5 s on the hanging cloth, FD 12
-        x 12: stopped at t = 0.020 s each time). A blow-up that starts at
-        the grid scale, still at moderate stretches and energies, is stopped
-        while the speeds are still those of the motion.
-        Measured, the largest K over that budget in ordinary runs (all
-        catalogue scenes, FD 16 x 16 and FE 8 x 8, their own force models, and
-        the hanging cloth under the paper's force): 0.97 (1.0 under Newmark,
-        which keeps the energy); under the paper's force at xi = 1, 3 to 144
-        from the step its instability shows. Unchecked in a scene with obstacles,
-        whose forces do work this budget does not bound (the drape's sheet,
-        started inside the paper's repulsion range, is pushed off at 0.7 m/s
-        in its first step). None: unchecked.
+        Bound on the kinetic energy K against the energy the sheet can have received (default 2; must exceed 1):
+        diverged when K exceeds ``kinetic_budget`` times its total energy at the start (eq. (13), kinetic, springs)
+        plus an upper bound of the work done since by its loads (sum over the free coordinates of |F| times the
+        path, max(|dX|, |V| dt), between checks) and by its held nodes (|internal force| times their prescribed
+        path, and their own kinetic energy). The equation of motion (11) with a gradient force makes no energy, so a
+        K above the budget is made by the numerics, or by a force that is no gradient (the paper's force (14)); a
+        blow-up at the grid scale is stopped while the speeds are still those of the motion. Unchecked in a scene
+        with obstacles, whose forces do work this budget does not bound. None: unchecked.
     max_speed : float or None
         Bound on the speed of any node (m/s); unchecked by default.
     every : int
@@ -244,8 +212,8 @@ class DivergenceGuard(Tracker):
     Attributes
     ----------
     last_good : State
-        The last state that passed every check (the run's start before the first): with ``every`` > 1, the
-        states between checks were never checked, and a run that diverges should hand back this one.
+        The last state that passed every check (the run's start before the first): with ``every`` > 1, the states
+        between checks were never checked, and a run that diverges should hand back this one.
     """
 
     #: checks between the energies compared by ``energy_growth``
@@ -413,8 +381,8 @@ class DivergenceGuard(Tracker):
 
 class SelfContactMonitor(Tracker):
     """How close the sheet comes to itself during a run: the smallest distance between primitives of its contact
-    mesh that may touch, and the steps at which two of its triangles cross (:class:`deformable.ContactMesh`,
-    the IPC Toolkit's distances and intersection test). It measures; it stops nothing.
+    mesh that may touch, and the steps at which two of its triangles cross (:class:`deformable.ContactMesh`, the IPC
+    Toolkit's distances and intersection test). It measures; it stops nothing.
 
     Parameters
     ----------

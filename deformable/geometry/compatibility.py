@@ -1,7 +1,6 @@
-r"""The compatibility test of the paper (section 3.2) on a pair of fields (G_ij, B_ij).
+"""The compatibility test of the paper (section 3.2) on a pair of fields (G_ij, B_ij).
 
-G and B are not independent (paper, eq. 10): a surface exists with metric G
-and curvature B only if
+G and B are not independent (paper, eq. 10): a surface exists with metric G and curvature B only if
 
     (r_11)_2 - (r_12)_1 = 0,   (r_22)_1 - (r_12)_2 = 0,   n_12 - n_21 = 0.       (10)
 
@@ -14,36 +13,24 @@ the third derivatives are, with every quantity computed from G and B alone,
     (r_ij)_k = [d_k Gamma^l_ij + Gamma^m_ij Gamma^l_mk - B_ij W^l_k] r_l
                + [Gamma^m_ij B_mk + d_k B_ij] n,
 
-with Gamma^k_ij = G^{kl} (d_i G_lj + d_j G_li - d_l G_ij)/2. The paper's test
-compares u = (r_11)_2 with v = (r_12)_1 and u' = (r_22)_1 with v' = (r_12)_2
-"through the ratio of its magnitudes and the cosine of its angles (both
-numbers must be near to one)", magnitudes taken with the frame's metric
-|c^l r_l + c^n n|^2 = c^k G_kl c^l + (c^n)^2. The tangential parts of u - v
-are the Gauss equation, the normal parts the Mainardi-Codazzi equations:
+with Gamma^k_ij = G^{kl} (d_i G_lj + d_j G_li - d_l G_ij)/2. The paper's test compares u = (r_11)_2 with
+v = (r_12)_1 and u' = (r_22)_1 with v' = (r_12)_2 "through the ratio of its magnitudes and the cosine of its angles
+(both numbers must be near to one)", magnitudes taken with the frame's metric |c^l r_l + c^n n|^2 = c^k G_kl c^l +
+(c^n)^2. The tangential parts of u - v are the Gauss equation, the normal parts the Mainardi-Codazzi equations:
 
 - Gauss: K from G alone (Brioschi's formula) equals det B / det G;
 - Codazzi 1: d_2 B_11 - d_1 B_12 = B_11 Gamma^1_12 + B_12 (Gamma^2_12 - Gamma^1_11) - B_22 Gamma^2_11;
 - Codazzi 2: d_2 B_12 - d_1 B_22 = B_11 Gamma^1_22 + B_12 (Gamma^2_22 - Gamma^1_12) - B_22 Gamma^2_12.
 
-Derivatives are central differences (``numpy.gradient``, second order, also
-at the edges), so on exact fields sampled on a grid of spacing h every
-residual is O(h^2). Where a compared vector vanishes (everywhere on a plane
-or a cylinder; where an incompatible pair has u != 0 = v) the ratio and the
-cosine are undefined: those points are *guarded* and tested by the residual
-|u - v| instead, so that no reported number is NaN or infinite.
+Derivatives are central differences (``numpy.gradient``, second order, also at the edges): every residual is O(h^2)
+on exact fields. Where a compared vector vanishes (on a plane or a cylinder; where an incompatible pair has
+u != 0 = v) the ratio and the cosine are undefined: those points are *guarded* and tested by the residual |u - v|.
 
-Range. Fields so large or so small that a product or a quotient of them
-leaves double precision (a curvature of 1e200 1/m, whose square overflows; a
-metric of 1e-300, whose determinant squared underflows to 0 under Brioschi's
-quotient) make residuals infinite or NaN, against which every comparison
-would pass (an infinite scale guards every point). The test is not
-computable there: :attr:`Compatibility.finite` is False, and so is
-:attr:`Compatibility.compatible`.
+Range. Fields whose products or quotients leave double precision make residuals infinite or NaN; the test is then
+not computable: :attr:`Compatibility.finite` is False, and so is :attr:`Compatibility.compatible`.
 
-A scene can be checked before a run (and one with rest-tensor overrides is
-checked when it is made): :func:`check_rest_state` evaluates a Scene's G0, B0 on
-its node grid, and :func:`warn_if_incompatible` turns a failed check into an
-:class:`IncompatibleRestState` warning.
+:func:`check_rest_state` evaluates a Scene's G0, B0 on its node grid, and :func:`warn_if_incompatible` turns a failed
+check into an :class:`IncompatibleRestState` warning (a scene with rest-tensor overrides is checked when it is made).
 """
 
 from __future__ import annotations
@@ -133,13 +120,13 @@ class Comparison:
     points : int
         Points checked.
     resolved : int
-        Points where both |u| and |v| exceed the guard: there the ratio |u| / |v| and the cosine of the
-        angle between u and v are defined and are the test.
+        Points where both |u| and |v| exceed the guard: there the ratio |u| / |v| and the cosine of the angle
+        between u and v are defined and are the test.
     ratio, cosine : (worst, median) or None
         Over the resolved points (worst: farthest from 1, smallest); None when no point is resolved.
     residual : float
-        max |u - v| over the other, guarded, points, relative to the vectors' scale (0 when none is
-        guarded): where a vector vanishes the ratio and the cosine are undefined and the residual is the test.
+        max |u - v| over the other, guarded, points, relative to the vectors' scale (0 when none is guarded): where
+        a vector vanishes the ratio and the cosine are undefined and the residual is the test.
     passed : bool
         |ratio - 1| <= rtol and cosine >= 1 - rtol at every resolved point, residual <= rtol, every quantity
         of the test finite (module docstring, "Range").
@@ -169,8 +156,8 @@ class Compatibility:
     Attributes
     ----------
     comparisons : dict
-        The paper's two comparisons, "(r_11)_2 vs (r_12)_1" and "(r_22)_1 vs (r_12)_2", each a
-        :class:`Comparison`: ratio and cosine where both vectors are resolved, the residual elsewhere.
+        The paper's two comparisons, "(r_11)_2 vs (r_12)_1" and "(r_22)_1 vs (r_12)_2", each a :class:`Comparison`:
+        ratio and cosine where both vectors are resolved, the residual elsewhere.
     compatible : bool
         Both comparisons pass (the paper's test, guarded).
     gauss : float
@@ -178,17 +165,17 @@ class Compatibility:
     codazzi : (float, float)
         max |residual| of the two Mainardi-Codazzi equations (1/length^2 per parameter unit, reported).
     gauss_relative, mismatch_relative : float
-        gauss over the curvature scale max(|K|, |B|^2/|G|); max |u - v| (frame norm) over the vectors'
-        scale at all points. Zero for a compatible pair up to discretisation error.
+        gauss over the curvature scale max(|K|, |B|^2/|G|); max |u - v| (frame norm) over the vectors' scale at all
+        points. Zero for a compatible pair up to discretisation error.
     guarded : float
         Fraction of points where a compared vector is below the guard (ratio and cosine undefined).
     finite : bool
-        Every quantity of the test (third derivatives, curvatures, Codazzi residuals, scales) is finite; when
-        not, the test is not computable in double precision and ``compatible`` is False (module docstring).
+        Every quantity of the test (third derivatives, curvatures, Codazzi residuals, scales) is finite; when not,
+        the test is not computable in double precision and ``compatible`` is False (module docstring).
     fields : dict
         Fields (M', N') over the checked points (the grid less ``margin`` rows a side): the residuals "gauss",
-        "codazzi1", "codazzi2", and the paper's "ratio1", "cosine1" ((r_11)_2 vs (r_12)_1) and "ratio2",
-        "cosine2" ((r_22)_1 vs (r_12)_2), NaN at the guarded points.
+        "codazzi1", "codazzi2", and the paper's "ratio1", "cosine1" ((r_11)_2 vs (r_12)_1) and "ratio2", "cosine2"
+        ((r_22)_1 vs (r_12)_2), NaN at the guarded points.
     """
 
     comparisons: dict
@@ -217,29 +204,23 @@ class Compatibility:
 
 
 def check_compatibility(G, B, h, margin: int = 2, rtol: float = 0.05, guard: float = 0.05) -> Compatibility:
-    """The paper's compatibility test (eq. 10) on fields G, B sampled on a uniform grid.
-
-    At every point the paper compares u = (r_11)_2 with v = (r_12)_1, and u' = (r_22)_1 with
-    v' = (r_12)_2, "through the ratio of its magnitudes and the cosine of its angles (both numbers must
-    be near to one)". Where a compared vector (nearly) vanishes, on a plane or a cylinder everywhere,
-    the ratio and the cosine are undefined; there the test is the residual |u - v| (guarded points).
+    """The paper's compatibility test (eq. 10) on fields G, B sampled on a uniform grid (module docstring).
 
     Parameters
     ----------
     G, B : array (2, 2, M, N)
-        Metric (dimensionless for an arc-length-like parametrisation) and curvature (1/length)
-        at the grid points, M, N >= 5.
+        Metric (dimensionless for an arc-length-like parametrisation) and curvature (1/length) at the grid points,
+        M, N >= 5.
     h : float or (h1, h2)
         Grid spacings (parameter units).
     margin : int
-        Rows/columns at each edge left out. The default 2 leaves out the rows where the second
-        derivatives of G (differences of one-sided differences) are only first order.
+        Rows/columns at each edge left out. The default 2 leaves out the rows where the second derivatives of G
+        (differences of one-sided differences) are only first order.
     rtol : float
         Tolerance: |ratio - 1| <= rtol, cosine >= 1 - rtol, guarded residual <= rtol.
     guard : float
-        A point is guarded for a comparison where a compared vector is at most ``guard`` times their
-        scale (the largest of them, and at least max |B|^2 / |G|^(1/2), Frobenius norms): there the
-        ratio and the cosine would measure discretisation noise, not geometry.
+        A point is guarded for a comparison where a compared vector is at most ``guard`` times their scale (the largest
+        of them, and at least max |B|^2 / |G|^(1/2), Frobenius norms).
 
     Returns
     -------
@@ -333,10 +314,9 @@ def _second(surface, a1, a2, step=1e-5):
 def rest_tensors(scene, nodes: tuple[int, int] | None = None) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     """The scene's rest metric G0 and curvature B0 on a node grid, (2, 2, M, N) each, and (h1, h2).
 
-    G0, B0 are the scene's ``rest_metric`` / ``rest_curvature`` where given, else those of the
-    continuous rest shape (not of any discretisation). ``nodes`` defaults to the sheet's grid
-    (at least 33 a side, where the differencing error of a smooth rest shape is well below the
-    default tolerance).
+    G0, B0 are the scene's ``rest_metric`` / ``rest_curvature`` where given, else those of the continuous rest shape
+    (not of any discretisation). ``nodes`` defaults to the sheet's grid (at least 33 a side, where the differencing
+    error of a smooth rest shape is well below the default tolerance).
     """
     sheet = scene.sheet
     nodes = nodes or tuple(max(n, 33) for n in sheet.nodes)

@@ -1,20 +1,12 @@
-r"""The parameter rectangle and its node grid.
+"""The parameter rectangle and its node grid.
 
-The parameter domain is ``[0, L1] x [0, L2]`` with coordinates (a1, a2); the
-node grid has M nodes along a1 and N along a2, ``h1 = L1/(M-1)``,
-``h2 = L2/(N-1)`` (paper section 2.3, "an MxN-node mesh"). Both backends use
-this grid: the finite-difference nodes and the finite-element mesh vertices
-coincide, so a constraint or a sample names the same points in both.
-
-A sheet's rest and initial shapes are surfaces (:mod:`deformable.geometry.surfaces`).
-
-The grid's named places live here, once, for every caller: the four edges
-(:data:`EDGES`: "left" a1 = 0, "right" a1 = L1, "bottom" a2 = 0, "top"
-a2 = L2) and corners (:data:`CORNERS`), with :meth:`Sheet.edge` /
-:meth:`Sheet.corner` giving the node indices; and the cell of a parameter
-point with its bilinear weights (:meth:`Sheet.locate`, :func:`bilinear`),
-which FD sampling, FD point loads, FE point location and the FE
-interpolation of node fields to Gauss points all use.
+The parameter domain is ``[0, L1] x [0, L2]`` with coordinates (a1, a2); the node grid has M nodes along a1 and N
+along a2, ``h1 = L1/(M-1)``, ``h2 = L2/(N-1)`` (paper section 2.3, "an MxN-node mesh"). Both backends use this grid
+(the FD nodes and the FE mesh vertices coincide), so a constraint or a sample names the same points in both. A
+sheet's rest and initial shapes are surfaces (:mod:`deformable.geometry.surfaces`). The grid's named places live
+here: the four edges (:data:`EDGES`: "left" a1 = 0, "right" a1 = L1, "bottom" a2 = 0, "top" a2 = L2) and corners
+(:data:`CORNERS`), with :meth:`Sheet.edge` and :meth:`Sheet.edge_nodes` giving the nodes; and the cell of a
+parameter point with its bilinear weights (:meth:`Sheet.locate`, :func:`bilinear`).
 """
 
 from __future__ import annotations
@@ -35,9 +27,8 @@ __all__ = ["Sheet", "Edge", "EDGES", "CORNERS", "bilinear", "bilinear_weights", 
 class Edge:
     """An edge of the parameter rectangle: the nodes whose index along ``axis`` is ``side``.
 
-    ``axis`` 0 (index m, along a1) for "left"/"right", 1 (index n) for
-    "bottom"/"top"; ``side`` 0 or -1; the edge runs along the other axis,
-    :attr:`along`.
+    ``axis`` 0 (index m, along a1) for "left"/"right", 1 (index n) for "bottom"/"top"; ``side`` 0 or -1; the edge
+    runs along the other axis, :attr:`along`.
     """
 
     name: str
@@ -139,8 +130,8 @@ class Sheet:
 
     def fibre_stretch(self, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """How much each grid segment of the positions ``grid`` ((M, N, 3), m) is stretched against the rest
-        shape's: |r(m+1, n) - r(m, n)| / |r0(m+1, n) - r0(m, n)| - 1 along a1, (M - 1, N), and likewise along
-        a2, (M, N - 1) (dimensionless; a fibre's strain, the segment's chord against its rest chord)."""
+        shape's: |r(m+1, n) - r(m, n)| / |r0(m+1, n) - r0(m, n)| - 1 along a1, (M - 1, N), and likewise along a2,
+        (M, N - 1) (dimensionless; a fibre's strain, the segment's chord against its rest chord)."""
         rest = self.rest.r(*self.coordinates())
         out = []
         for axis in (0, 1):

@@ -1,12 +1,9 @@
 r"""Surfaces on the parameter rectangle: anything with ``r, r1, r2, r12: (a1, a2) -> (..., 3)``.
 
-A *surface* gives the position and the derivatives a bicubic Hermite
-interpolation needs (:class:`Surface`, a protocol). A plain callable
-``(a1, a2) -> (..., 3)`` is accepted wherever a surface is
-(:func:`as_surface`), and is differentiated numerically
-(:class:`CallableSurface`: central differences, r_1, r_2 to about 1e-10,
-r_12 to about 1e-7). :class:`Plane` is the flat surface with exact
-derivatives, the default rest and initial shape of a sheet.
+A *surface* gives the position and the derivatives a bicubic Hermite interpolation needs (:class:`Surface`, a
+protocol). A plain callable ``(a1, a2) -> (..., 3)`` is accepted wherever a surface is (:func:`as_surface`), and is
+differentiated numerically (:class:`CallableSurface`: central differences, r_1, r_2 to about 1e-10, r_12 to about
+1e-7). :class:`Plane` is the flat surface with exact derivatives, the default rest and initial shape of a sheet.
 """
 
 from __future__ import annotations

@@ -1,8 +1,7 @@
 r"""Metric and curvature tensors of a parametric surface, as pure functions.
 
-Components come first and points last (the layout of ``skfem.helpers``), so
-the same call serves finite-difference nodes (``*pts = M, N``) and
-finite-element quadrature points (``*pts = elements, points``).
+Components come first and points last (the layout of ``skfem.helpers``), so the same call serves finite-difference
+nodes (``*pts = M, N``) and finite-element quadrature points (``*pts = elements, points``).
 
 - metric tensor, eq. (4)-(5):   ``G_ij = r_i . r_j``
 - unit normal:                   ``n = (r_1 x r_2) / |r_1 x r_2|`` (:func:`frame` gives n and

@@ -1,13 +1,11 @@
 r"""Checkpoints of a run: the state, the constraint reference and the resolved scene config in a .npz.
 
-:func:`save_checkpoint` / :func:`load_checkpoint` store the state (X, V, A, t,
-step), the constraint reference X0, the resolved scene config and the
-controller's memory (:meth:`deformable.TimeStepper.memory`: the adapted step,
-the accepted steps since it changed, Newton's round-off floor), as JSON text;
-:class:`CheckpointWriter` writes one every ``every`` steps. Resuming from a
-checkpoint (the state, and :meth:`~deformable.TimeStepper.restore` of the
-memory) continues a run bit for bit, also a run whose step adapted. A checkpoint
-of an earlier version has no memory: it resumes with the requested step.
+:func:`save_checkpoint` / :func:`load_checkpoint` store the state (X, V, A, t, step), the constraint reference X0,
+the resolved scene config and the controller's memory (:meth:`deformable.TimeStepper.memory`: the adapted step, the
+accepted steps since it changed, Newton's round-off floor), as JSON text; :class:`CheckpointWriter` writes one every
+``every`` steps. Resuming from a checkpoint (the state, and :meth:`~deformable.TimeStepper.restore` of the memory)
+continues a run bit for bit, also a run whose step adapted. A checkpoint of an earlier version has no memory: it
+resumes with the requested step.
 """
 
 from __future__ import annotations
@@ -155,9 +153,8 @@ def load_checkpoint(path, t0: float | None = None, adaptive: bool | None = None)
 class CheckpointWriter(Tracker):
     """Write ``<folder>/<stem>-<step>.npz`` every ``every`` steps (see :func:`save_checkpoint`).
 
-    ``X0`` is the run's constraint reference (its initial positions, (ndof, 3));
-    ``meta`` the keyword arguments of :func:`save_checkpoint` after it; the
-    controller's memory is the stepper's at the step written.
+    ``X0`` is the run's constraint reference (its initial positions, (ndof, 3)); ``meta`` the keyword arguments of
+    :func:`save_checkpoint` after it; the controller's memory is the stepper's at the step written.
     """
 
     def __init__(self, folder, stem: str, every: int, X0, **meta):

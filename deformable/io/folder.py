@@ -1,22 +1,21 @@
 r"""Output folders a run owns: no run replaces or mixes with another run's results.
 
-A run writes into a folder that is new, empty, or already its own (a resumed
-run). :func:`inspect` says what a folder holds; :class:`RunFolder` claims one:
+A run writes into a folder that is new, empty, or already its own (a resumed run). :func:`inspect` says what a
+folder holds; :class:`RunFolder` claims one:
 
-- a folder holding another run's results is refused (:class:`~deformable.errors.OutputFolderError`)
-  unless ``overwrite`` is given, and then the results are removed first; files that are not a
-  run's results (anything :func:`is_result` does not recognise) are never removed, and a folder
-  holding them is refused even with ``overwrite``;
-- a lock file (:data:`LOCK`, created with ``O_EXCL``, holding the owner's pid and host) keeps two
-  runs out of one folder, also where HDF5's own file locking is switched off
-  (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file systems); a stale lock (same host, and
-  its process gone, started after the lock was written, or not a Python process: :func:`stale`)
-  is cleared with a warning and taken over;
-- text files (the resolved config) are written atomically (a temporary file, then a rename), so
-  the config beside the results always describes them.
+- a folder holding another run's results is refused (:class:`~deformable.errors.OutputFolderError`) unless
+  ``overwrite`` is given, and then the results are removed first; files that are not a run's results (anything
+  :func:`is_result` does not recognise) are never removed, and a folder holding them is refused even with
+  ``overwrite``;
+- a lock file (:data:`LOCK`, created with ``O_EXCL``, holding the owner's pid and host) keeps two runs out of one
+  folder, also where HDF5's own file locking is switched off (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file
+  systems); a stale lock (same host, and its process gone, started after the lock was written, or not a Python
+  process: :func:`stale`) is cleared with a warning and taken over;
+- text files (the resolved config) are written atomically (a temporary file, then a rename), so the config beside
+  the results always describes them.
 
-:func:`fresh` picks a folder name that is free (``runs/curtain``, ``runs/curtain-2``, ...), for a
-default output folder that every run of a scene would otherwise share.
+:func:`fresh` picks a folder name that is free (``runs/curtain``, ``runs/curtain-2``, ...), for a default output
+folder that every run of a scene would otherwise share.
 """
 
 from __future__ import annotations
@@ -54,9 +53,9 @@ def is_result(path: Path) -> bool:
     """Whether ``path`` is a file (or the frames folder) that ``deformable run`` writes.
 
     Its series ``<scene>.xdmf`` / ``.h5`` (and the ``<scene>-from-<step>`` series of older versions), checkpoints
-    ``<scene>-checkpoint-<step>.npz`` and ``<scene>-diverged.npz``, a resolved config (a ``.toml`` file whose
-    first line is :data:`CONFIG_HEADER`), the lock, and a ``frames`` folder of PNG and GIF files only.
-    Anything else (a user's own ``data.h5``, a scene file) is not, and is never removed.
+    ``<scene>-checkpoint-<step>.npz`` and ``<scene>-diverged.npz``, a resolved config (a ``.toml`` file whose first
+    line is :data:`CONFIG_HEADER`), the lock, and a ``frames`` folder of PNG and GIF files only. Anything else (a
+    user's own ``data.h5``, a scene file) is not, and is never removed.
     """
     name = path.name
     if path.is_dir():
@@ -129,9 +128,9 @@ def _owner(folder: Path) -> str | None:
 def stale(lock: Path, pid: int) -> str | None:
     """Why the lock file ``lock`` of process ``pid`` (on this host) is stale, or None when its run may be alive.
 
-    Stale: the process is gone; or it started after the lock was written (the pid was reused, after a reboot
-    say); or it is not a Python process (a run of this package is). A process that cannot be inspected (no
-    /proc) counts as alive.
+    Stale: the process is gone; or it started after the lock was written (the pid was reused, after a reboot say);
+    or it is not a Python process (a run of this package is). A process that cannot be inspected (no /proc) counts
+    as alive.
     """
     try:
         os.kill(pid, 0)
@@ -186,8 +185,8 @@ class RunFolder:
     overwrite : bool
         Replace another run's results in it (they are removed at :meth:`claim`).
     own : callable (Path) -> bool, optional
-        Whether the results already in the folder are this run's own (a resumed run): then they
-        are kept, neither refused nor removed.
+        Whether the results already in the folder are this run's own (a resumed run): then they are kept, neither
+        refused nor removed.
     """
 
     def __init__(self, path, overwrite: bool = False, own=None):

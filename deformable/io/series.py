@@ -1,70 +1,41 @@
-r"""Run output: an XDMF time series for ParaView.
+"""Run output: an XDMF time series for ParaView.
 
-:class:`XDMFWriter` is a :class:`deformable.Tracker` that writes, every
-``every`` steps, one frame of an XDMF 3 time series (meshio's layout, HDF5
-heavy data beside the .xdmf). The mesh is the node grid as quads, stored in
-the first frame and included by the others; each frame carries its own
-geometry (the sheet moves; ParaView's XDMF3 reader shows it as is) and the
-point fields
+:class:`XDMFWriter` is a :class:`deformable.Tracker` that writes one frame of an XDMF 3 time series (meshio's layout,
+HDF5 heavy data beside the .xdmf). The mesh is the node grid as quads, stored in the first frame and included by the
+others; each frame carries its own geometry and the point fields
 
 - ``G11, G12, G22``: the metric of eq. (4)-(5) (FD: eq. (18)),
 - ``B11, B12, B22``: the curvature of eq. (8) (FD: eq. (19)),
 - ``speed``: |r_t| (m/s), from the stepper's V of eq. (27),
-- ``energy_density``: the integrand of eq. (13),
-  ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2`` (J/m^2), or the
-  density of the scene's energy model
-  (:meth:`deformable.physics.ForceModel.density_field`),
-- ``compatibility_ratio``, ``compatibility_cosine``: the paper's compatibility test (section 3.2,
-  eq. (10); :func:`deformable.geometry.check_compatibility`) on the frame's own G and B at the nodes,
-  the ratio |u| / |v| and the cosine of u = (r_11)_2 against v = (r_12)_1, both near 1 where the
-  discrete G and B are coherent; NaN where a compared vector vanishes (the test's guard: a plane, a
-  cylinder), within two nodes of an edge (its differences' margin) and on grids under 6 x 6 nodes,
-- ``displacement``: r - r(start of the run) (m), so readers that keep the
-  first geometry (meshio's TimeSeriesReader) recover the positions; a resumed
-  run measures it from the original start, not from the resume point.
+- ``energy_density``: the integrand of eq. (13), ``sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2``
+  (J/m^2), or the density of the scene's energy model (:meth:`deformable.physics.ForceModel.density_field`),
+- ``compatibility_ratio``, ``compatibility_cosine``: the paper's compatibility test (section 3.2, eq. (10);
+  :func:`deformable.geometry.check_compatibility`) on the frame's own G and B at the nodes, the ratio |u| / |v| and
+  the cosine of u = (r_11)_2 against v = (r_12)_1; NaN where a compared vector vanishes (the test's guard), within
+  two nodes of an edge and on grids under 6 x 6 nodes,
+- ``displacement``: r - r(start of the run) (m), so readers that keep the first geometry (meshio's TimeSeriesReader)
+  recover the positions; a resumed run measures it from the original start.
 
-Cadence. A frame every ``every`` steps, or every ``interval`` seconds of
-simulated time, plus the first and the last state. With an ``interval`` the
-frames are on its multiples: the writer asks the stepper for each of them
-(:meth:`~deformable.dynamics.trackers.Tracker.next_time`), and
-:meth:`deformable.TimeStepper.run` shortens the step that would pass one so
-that a step ends on it, as it ends a run on ``t_end``. A frame is thus a state
-of the run, never interpolated between two steps, and the number of frames
-does not depend on the backend's dt (``interval = 0.1`` with dt = 0.011 s:
-frames at 0.1, 0.2, ..., each after a step of 0.001 s, where they used to fall
-on the first step past each multiple, 0.11, 0.209, 0.308, ...). A run whose dt
-divides the interval takes the same steps as without the writer, bit for bit.
-Driven by another loop that does not ask (``handle`` called state by state),
-the writer writes the first state at or past each multiple. Frame times are
-the step times rounded to 12 significant digits, which removes the round-off
-of summing dt (2.0, not 1.9999999999998905). Each frame says what it is in an
-XDMF ``Information`` element (``frame``: ``first``, ``cadence`` or ``last``),
-which readers skip.
+Cadence. A frame every ``every`` steps, or every ``interval`` seconds of simulated time, plus the first and the last
+state. With an ``interval`` the frames are on its multiples: the writer asks the stepper for each of them
+(:meth:`~deformable.dynamics.trackers.Tracker.next_time`), and :meth:`deformable.TimeStepper.run` ends a step on each,
+so a frame is a state of the run, never interpolated. Driven by another loop that does not ask (``handle`` called
+state by state), the writer writes the first state at or past each multiple. Frame times are the step times rounded
+to 12 significant digits (:func:`frame_time`). Each frame says what it is in an XDMF ``Information`` element
+(``frame``: ``first``, ``cadence`` or ``last``), which readers skip.
 
-Resume. ``append=True`` continues an existing series: the frames after the
-state the run resumes from are dropped (with a warning that says how many),
-and so is a ``last`` frame at it, so that the continued series equals the one
-an uninterrupted run writes, frame by frame, in one file a ParaView user opens.
-A series that ends before the state (cut back by a resume from an earlier
-state) is refused (:func:`continuation`): continuing it would leave a hole.
+Resume. ``append=True`` continues an existing series: the frames after the state the run resumes from are dropped
+(with a warning that says how many), and so is a ``last`` frame at it, so that the continued series equals the one an
+uninterrupted run writes. A series that ends before the state is refused (:func:`continuation`).
 
-Compression. ``compress=True`` writes the HDF5 datasets gzip-compressed (level 4, with the byte shuffle),
-lossless; None (the default) compresses grids of more than 32 x 32 nodes. A 64 x 64 frame of a falling
-sheet takes 364 kB instead of 524 kB.
+Compression. ``compress=True`` writes the HDF5 datasets gzip-compressed (:data:`GZIP_LEVEL`, with the byte shuffle),
+lossless; None (the default) compresses grids of more than :data:`COMPRESS_NODES` nodes.
 
-Everything is taken through the backend protocol: ``model.grid`` for positions
-and velocities at the nodes, ``model.sample`` at the node coordinates for G and
-B, so the writer serves the FD and the FE backend alike.
-
-The .xdmf (XML) file is rewritten, and the HDF5 file flushed, after every
-frame, so a run that is killed keeps every frame written before. The folder
-is created as needed. A frame that would not fit (the free disk space, or the
-file-size limit of ``ulimit -f``) is refused before HDF5 writes any of it, and
-a failed write raises :class:`~deformable.errors.WriteError` naming the file;
-the frames written before stay readable. (HDF5 cannot recover from a write that
-fails half-way: the process would crash when the file is closed.)
-(meshio's own TimeSeriesWriter writes the XML only on exit, and puts the .h5
-file in the working directory; this writer fixes both.)
+Everything is taken through the backend protocol (``model.grid``, ``model.sample``), so the writer serves both
+backends. The .xdmf file is rewritten, and the HDF5 file flushed, after every frame, so a run that is killed keeps
+every frame written before. A frame that would not fit (the free disk space, or ``ulimit -f``) is refused before HDF5
+writes any of it (HDF5 cannot recover from a write that fails half-way), and a failed write raises
+:class:`~deformable.errors.WriteError` naming the file.
 """
 
 from __future__ import annotations
@@ -87,7 +58,7 @@ __all__ = ["XDMFWriter", "NodeFields", "node_fields", "frame_time", "continuatio
 
 log = logging.getLogger(__name__)
 
-#: gzip level of a compressed series (1 fastest .. 9 smallest; 4 is within a few per cent of 9's size, faster)
+#: gzip level of a compressed series (1 fastest .. 9 smallest)
 GZIP_LEVEL = 4
 #: compress by default above this many nodes (32 x 32)
 COMPRESS_NODES = 32 * 32
@@ -175,24 +146,23 @@ class XDMFWriter(Tracker):
     Parameters
     ----------
     path : str or Path
-        The .xdmf file; the heavy data goes to the .h5 file of the same stem beside it. Its folder is
-        created if needed.
+        The .xdmf file; the heavy data goes to the .h5 file of the same stem beside it. Its folder is created if needed.
     every : int
         Cadence in steps (default 1), when no ``interval`` is given.
     interval : float, optional
-        Cadence in simulated time (s): a frame at each multiple of it, on which the stepper ends a step
-        (module docstring).
+        Cadence in simulated time (s): a frame at each multiple of it, on which the stepper ends a step (module
+        docstring).
     reference : array (ndof, 3), optional
-        The positions ``displacement`` is measured from (default: the first state's); a resumed run
-        passes its original start.
+        The positions ``displacement`` is measured from (default: the first state's); a resumed run passes its original
+        start.
     append : bool
-        Continue the series at ``path`` from the state the run starts at (module docstring); without a
-        series there, start one.
+        Continue the series at ``path`` from the state the run starts at (module docstring); without a series there,
+        start one.
     compress : bool, optional
-        Write the HDF5 datasets gzip-compressed (level :data:`GZIP_LEVEL`, with HDF5's byte shuffle),
-        lossless: readers get the same float64 values, and every HDF5 reader (meshio, ParaView, h5py)
-        decompresses them by itself. None (the default): compress when the grid has more than 32 x 32
-        nodes. A continued series may mix compressed and uncompressed frames.
+        Write the HDF5 datasets gzip-compressed (level :data:`GZIP_LEVEL`, with HDF5's byte shuffle), lossless: readers
+        get the same float64 values, and every HDF5 reader (meshio, ParaView, h5py) decompresses them by itself. None
+        (the default): compress when the grid has more than 32 x 32 nodes. A continued series may mix compressed and
+        uncompressed frames.
     """
 
     def __init__(self, path, every: int = 1, *, interval: float | None = None, reference=None, append: bool = False,
@@ -394,12 +364,12 @@ def _frames(series, path) -> list[tuple[int, float, str]]:
 def continuation(path, step: int, t: float, interval: float | None = None, every: int = 1) -> tuple[int, int]:
     """How the series at ``path`` continues from the state at ``step``, time ``t`` (s): (frames kept, dropped).
 
-    Kept are its frames up to the state (but a ``last`` frame at it); they must reach as far as an
-    uninterrupted run's would: with an ``interval`` (s), the frame at or past the last multiple of it up
-    to ``t``; else the last multiple of ``every`` steps up to ``step``. A series that ends earlier (a run
-    resumed from an earlier state and killed before it got this far) has a hole the resumed run would
-    not fill: InputError naming the times, and nothing is changed. Frames after the state (a run killed
-    after its checkpoint) are what a continuation drops. Reads only.
+    Kept are its frames up to the state (but a ``last`` frame at it); they must reach as far as an uninterrupted
+    run's would: with an ``interval`` (s), the frame at or past the last multiple of it up to ``t``; else the last
+    multiple of ``every`` steps up to ``step``. A series that ends earlier (a run resumed from an earlier state and
+    killed before it got this far) has a hole the resumed run would not fill: InputError naming the times, and
+    nothing is changed. Frames after the state (a run killed after its checkpoint) are what a continuation drops.
+    Reads only.
     """
     return _continuation(path, _frames(_parse(path)[1], path), step, t, interval, every)
 

@@ -1,8 +1,7 @@
 r"""The elastic energy of a state, split as eq. (13) splits it, and the kinetic energy.
 
-:class:`Energy` holds the stretching part (the eta terms of eq. (13)) and the
-bending part (the xi terms), in J; :func:`kinetic_energy` is ``V^T M V / 2``
-with a backend's integrated mass matrix.
+:class:`Energy` holds the stretching part (the eta terms of eq. (13)) and the bending part (the xi terms), in J;
+:func:`kinetic_energy` is ``V^T M V / 2`` with a backend's integrated mass matrix.
 """
 
 from __future__ import annotations

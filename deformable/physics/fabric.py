@@ -3,29 +3,29 @@ r"""A fabric as a textile lab measures it, in SI units, and the weights of eq. (
 A lab reports, along the warp (a1 here) and the weft (a2):
 
 - the areal density w (kg/m^2; ASTM D3776);
-- the bending rigidity D per unit width (N m), usually from the cantilever bending length c (ASTM D1388,
-  Peirce 1930, J. Textile Inst. 21, T377): D = w g c^3 (:meth:`Fabric.from_bending_length`);
+- the bending rigidity D per unit width (N m), usually from the cantilever bending length c (ASTM D1388, Peirce
+  1930, J. Textile Inst. 21, T377): D = w g c^3 (:meth:`Fabric.from_bending_length`);
 - the tensile stiffness T (N/m): force per unit width over strain, the initial slope;
 - the in-plane shear stiffness S (N/m): force per unit width over the shear angle (KES-F's G).
 
 The weights (sections 3.2 and 4). About a flat rest state on an orthonormal parameterisation (G0 = I), the
-variational model's energy (13) is, to second order in the displacement, that of a linear sheet at
-Poisson's ratio 0 (Koiter's energy at nu = 0, docs/design.md): with G_11 - 1 = 2 e_11, G_12 = gamma the
-shear angle, B_ij = kappa_ij the curvature changes, and eq. (13) counting eta_12 and eta_21 both,
+variational model's energy (13) is, to second order in the displacement, that of a linear sheet at Poisson's ratio 0
+(Koiter's energy at nu = 0, docs/design.md): with G_11 - 1 = 2 e_11, G_12 = gamma the shear angle, B_ij = kappa_ij
+the curvature changes, and eq. (13) counting eta_12 and eta_21 both,
 
     eta_11 (G_11 - 1)^2 = (T_1 / 2) e_11^2     ->  eta_11 = T_1 / 8   (Koiter: E h / 8)
     2 eta_12 G_12^2     = (S / 2) gamma^2      ->  eta_12 = S / 4     (Koiter at nu = 0: S = E h / 2)
     xi_11 B_11^2        = (D_1 / 2) kappa_11^2 ->  xi_11 = D_1 / 2    (Koiter: E h^3 / 24)
     2 xi_12 B_12^2      = D_12 kappa_12^2      ->  xi_12 = D_12 / 2
 
-with D_12, the twisting rigidity a lab seldom measures, sqrt(D_1 D_2) unless given (the isotropic sheet at
-nu = 0 has D_12 = D). Any other force model takes the weights with the same linear stiffness:
-multiplied by the variational model's :attr:`~deformable.physics.ForceModel.stiffness` over its own
-(the paper's force (14): eta_11 = T_1 / 2, xi_11 = D_1; :func:`deformable.scenes.equivalent_weights`).
-The nonlinear response differs between the models; this fixes their stiffness about the flat sheet.
+with D_12, the twisting rigidity a lab seldom measures, sqrt(D_1 D_2) unless given (the isotropic sheet at nu = 0
+has D_12 = D). Any other force model takes the weights with the same linear stiffness: multiplied by the variational
+model's :attr:`~deformable.physics.ForceModel.stiffness` over its own (the paper's force (14): eta_11 = T_1 / 2,
+xi_11 = D_1; :func:`deformable.scenes.equivalent_weights`). The nonlinear response differs between the models; this
+fixes their stiffness about the flat sheet.
 
-Named fabrics measured by others (:mod:`deformable.physics.fabric_presets`: the ten of Wang, O'Brien and
-Ramamoorthi 2011 as ARCSim ships them, and ARCSim's paper estimate): ``Fabric.preset("denim")``, their names
+Named fabrics measured by others (:mod:`deformable.physics.fabric_presets`: the ten of Wang, O'Brien and Ramamoorthi
+2011 as ARCSim ships them, and ARCSim's paper estimate): ``Fabric.preset("denim")``, their names
 ``Fabric.presets()``.
 """
 
@@ -102,8 +102,8 @@ class Fabric:
 
     @classmethod
     def from_bending_length(cls, density: float, length, tensile, **kw) -> Fabric:
-        """A fabric from its cantilever bending length c (m, a number or (warp, weft); ASTM D1388):
-        D = w g c^3 (Peirce 1930)."""
+        """A fabric from its cantilever bending length c (m, a number or (warp, weft); ASTM D1388): D = w g c^3
+        (Peirce 1930)."""
         c = _pair("bending length", length)
         return cls(density, tuple(density * G * x**3 for x in c), tensile, **kw)
 
@@ -135,8 +135,8 @@ class Fabric:
         return eta * ve / te, xi * vx / tx
 
     def material(self, force_model="variational", gamma: float = 0.0, scale: float = 1.0) -> Material:
-        """The :class:`Material` of this fabric under ``force_model``; ``gamma`` the damping density
-        (kg/(m^2 s)); ``scale`` the section 3.1 factor: mu and gamma times ``scale`` and the weights too, so
-        that the scaled sheet (its loads scaled with it) moves as the fabric does."""
+        """The :class:`Material` of this fabric under ``force_model``; ``gamma`` the damping density (kg/(m^2 s));
+        ``scale`` the section 3.1 factor: mu and gamma times ``scale`` and the weights too, so that the scaled sheet
+        (its loads scaled with it) moves as the fabric does."""
         eta, xi = self.weights(force_model)
         return Material(mu=scale * self.density, gamma=scale * gamma, eta=scale * eta, xi=scale * xi)

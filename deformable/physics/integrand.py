@@ -1,25 +1,21 @@
 r"""The integrand of the energy (13) at points, with its exact derivatives, written once for both backends.
 
-At a point the integrand depends on the surface through a few vectors, its
-*slots*: the tangents d1, d2 of the metric (G_ij = d_i . d_j, eq. 4 / 18),
-the tangents t1, t2 that define the normal (n = t1 x t2 / |t1 x t2|), and the
-second derivatives v11, v12, v22 of the curvature (B_ij = n . v_ij, eq. 8 / 19).
-In FE all are derivatives of one field and t_i = d_i = r_i (5 slots: r_1, r_2,
-r_11, r_12, r_22); in FD d_i = D_i+ r (zero where the row is undefined), t_i
-the forward (backward on the last row) differences of the normal, v_ij the
-second differences: 7 slots. The backends map slots to degrees of freedom
-(FD: difference stencils; FE: basis tables); everything else is here.
+At a point the integrand depends on the surface through a few vectors, its *slots*: the tangents d1, d2 of the
+metric (G_ij = d_i . d_j, eq. 4 / 18), the tangents t1, t2 that define the normal (n = t1 x t2 / |t1 x t2|), and the
+second derivatives v11, v12, v22 of the curvature (B_ij = n . v_ij, eq. 8 / 19). In FE all are derivatives of one
+field and t_i = d_i = r_i (5 slots: r_1, r_2, r_11, r_12, r_22); in FD d_i = D_i+ r (zero where the row is
+undefined), t_i the forward (backward on the last row) differences of the normal, v_ij the second differences: 7
+slots. The backends map slots to degrees of freedom (FD: difference stencils; FE: basis tables); everything else is
+here.
 
 With weights (the quadrature weight w times the material) the integrand is
 
     W = sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2,
 
-written with the six residuals s = (G11, G22, G12) and b = (B11, B22, B12),
-weights c^S = w (eta_11, eta_22, eta_12 + eta_21) and c^B likewise (G and B
-are symmetric, so 12 and 21 share one residual). Its first derivatives in
-the residuals are ``f = dW/ds = 2 c^S s - f0`` and ``g = dW/db = 2 c^B b - g0``
-(``f0 = 2 w (eta_11 G0_11, eta_22 G0_22, eta_12 G0_12 + eta_21 G0_21)``, ``g0``
-likewise). The Jacobian of the residuals in the slots:
+written with the six residuals s = (G11, G22, G12) and b = (B11, B22, B12), weights c^S = w (eta_11, eta_22, eta_12 +
+eta_21) and c^B likewise (G and B are symmetric, so 12 and 21 share one residual). Its first derivatives in the
+residuals are ``f = dW/ds = 2 c^S s - f0`` and ``g = dW/db = 2 c^B b - g0`` (``f0 = 2 w (eta_11 G0_11, eta_22 G0_22,
+eta_12 G0_12 + eta_21 G0_21)``, ``g0`` likewise). The Jacobian of the residuals in the slots:
 
     s11: (2 d1 | d1),  s22: (2 d2 | d2),  s12: (d2 | d1), (d1 | d2),
     b_ij: (t2 x w_ij | t1), (w_ij x t1 | t2), (n | v_ij),   w_ij = (v_ij - (v_ij . n) n) / |t1 x t2|,
@@ -29,28 +25,23 @@ so the gradient is ``sum f J_s + g J_b`` and the Hessian
     Gauss-Newton:  2 J^T diag(c) J                              (positive semi-definite)
     exact:         2 J^T diag(c) J + sum f Hess(s) + sum g Hess(b)
 
-with ``sum f Hess(s)`` = [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2), and
-``sum g Hess(b)`` the second derivative of ``V . n``, ``V = sum g_ij v_ij``,
-in (t1, t2) (written out in :mod:`deformable.physics.kernels`) plus its mixed
-derivative g_ij Q between v_ij and (t1, t2).
+with ``sum f Hess(s)`` = [[2 f11, f12], [f12, 2 f22]] (x I3) on (d1, d2), and ``sum g Hess(b)`` the second
+derivative of ``V . n``, ``V = sum g_ij v_ij``, in (t1, t2) (written out in :mod:`deformable.physics.kernels`) plus
+its mixed derivative g_ij Q between v_ij and (t1, t2).
 
-A *definite* Newton matrix (``kind="definite"``) keeps what can be made
-positive semi-definite point by point without an eigen-decomposition: the
-Gauss-Newton part, and the membrane part [[2 f11, f12], [f12, 2 f22]]
-projected onto its positive part (a 2 x 2 eigenproblem in closed form: the
-geometric stiffness of a sheet in tension, dropped in compression, where it
-would be negative). The bending second-order part, which is indefinite and
-vanishes with the bending residual, is left out. ``kind="projected"`` projects
-each point's whole exact Hessian onto its positive part by an eigen-
-decomposition (Teran et al. 2005; the projected Newton of Li et al. 2020):
-dearer, kept for comparison.
+A *definite* Newton matrix (``kind="definite"``) keeps what can be made positive semi-definite point by point
+without an eigen-decomposition: the Gauss-Newton part, and the membrane part [[2 f11, f12], [f12, 2 f22]] projected
+onto its positive part (a 2 x 2 eigenproblem in closed form: the geometric stiffness of a sheet in tension, dropped
+in compression, where it would be negative). The bending second-order part, which is indefinite and vanishes with
+the bending residual, is left out. ``kind="projected"`` projects each point's whole exact Hessian onto its positive
+part by an eigen- decomposition (Teran et al. 2005; the projected Newton of Li et al. 2020): dearer, kept for
+comparison.
 
-Gradients and Hessians are computed by the compiled kernels of
-:mod:`deformable.physics.kernels` (one loop body per point, and the projection onto the
-elements); G, B and the energy are numpy.
+Gradients and Hessians are computed by the compiled kernels of :mod:`deformable.physics.kernels` (one loop body per
+point, and the projection onto the elements); G, B and the energy are numpy.
 
-Layout: points first; slot vectors ``v`` are (P, S, 3); gradients (P, S, 3);
-Hessians (P, S, 3, S, 3) with index (slot, coordinate).
+Layout: points first; slot vectors ``v`` are (P, S, 3); gradients (P, S, 3); Hessians (P, S, 3, S, 3) with index
+(slot, coordinate).
 """
 
 from __future__ import annotations
@@ -77,16 +68,14 @@ FD_SLOTS = {"d1": 0, "d2": 1, "t1": 2, "t2": 3, "v11": 4, "v12": 5, "v22": 6}
 FE_SLOTS = {"d1": 0, "d2": 1, "t1": 0, "t2": 1, "v11": 2, "v12": 3, "v22": 4}
 #: residual order: s11, s22, s12, b11, b22, b12; the second derivative slot of each b
 _BEND = ("v11", "v22", "v12")
-#: points per block of :meth:`Integrand.add_element_hessians` (FD 64 x 64: 512 as fast as one pass per point)
+#: points per block of :meth:`Integrand.add_element_hessians` (small enough for the cache)
 _BLOCK = 512
 
 
 def hessian_threads() -> int:
     """Threads that assemble a Hessian (:func:`for_blocks`, both backends): the cores this process may use (at most
-    4), or OMP_NUM_THREADS where it is set (1 on Dask's workers and the validation runner's, a core each).
-
-    Measured inside Newton (two cores, OpenBLAS at one thread): FD 64 x 64 nodes 22 -> 14 ms a Hessian, FE 32 x 32
-    elements 44 -> 31 ms; bit-identical to one thread, each block writing rows of its own."""
+    4), or OMP_NUM_THREADS where it is set (1 on Dask's workers and the validation runner's, a core each). The result
+    is bit-identical to one thread's, each block writing rows of its own."""
     if os.environ.get("OMP_NUM_THREADS", "").isdigit():
         return max(1, int(os.environ["OMP_NUM_THREADS"]))
     return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
@@ -115,9 +104,8 @@ def for_blocks(work, starts, parallel: bool = True) -> None:
 def slot_tensors(v: np.ndarray, slots: dict, curvature: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     """G (eq. 4) and B (eq. 8) from slot vectors (P, S, 3): (2, 2, P) each.
 
-    B is None with ``curvature=False`` (no normal is formed). The backends take
-    their rest tensors from here, with the arithmetic of the energy itself, so
-    that the rest state has residuals exactly zero.
+    B is None with ``curvature=False`` (no normal is formed). The backends take their rest tensors from here, with
+    the arithmetic of the energy itself, so that the rest state has residuals exactly zero.
     """
     d1, d2 = v[:, slots["d1"]], v[:, slots["d2"]]
     G = np.stack([tensors.dot(d1, d1), tensors.dot(d2, d2), tensors.dot(d1, d2)])
@@ -139,10 +127,9 @@ class _Points:
                              element: np.ndarray, out: np.ndarray) -> None:
         """Add the Hessian of every point, carried to its element, to the elements' upper triangles ``out`` (E, nu).
 
-        Point p's block is ``B^T H_p B`` (x I3), ``B = table[which[p]]`` (S, L): the coefficients of the
-        element's L local nodes (FD: the stencil) or basis functions (FE) in the point's slots; local index
-        ``a L + l``, upper entries in ``numpy.triu_indices(3 L)`` order
-        (:class:`deformable.algebra.elements.SymmetricElements`).
+        Point p's block is ``B^T H_p B`` (x I3), ``B = table[which[p]]`` (S, L): the coefficients of the element's L
+        local nodes (FD: the stencil) or basis functions (FE) in the point's slots; local index ``a L + l``, upper
+        entries in ``numpy.triu_indices(3 L)`` order (:class:`deformable.algebra.elements.SymmetricElements`).
         Compiled (:mod:`deformable.physics.kernels`), by blocks of points small enough for the cache.
         """
         def block(lo):
@@ -159,8 +146,8 @@ class Integrand(_Points):
     Parameters
     ----------
     eta, xi : arrays (2, 2, *pts)
-        Weights of eq. (13), already multiplied by the quadrature weight of
-        each point (and, in FD, by each component's row weight).
+        Weights of eq. (13), already multiplied by the quadrature weight of each point (and, in FD, by each
+        component's row weight).
     G0, B0 : arrays (2, 2, *pts)
         Rest tensors.
     slots : dict
@@ -240,8 +227,8 @@ class DensityIntegrand(_Points):
     gradient and Hessians in the slot vectors: the backends' path for every energy but eq. (13)'s compiled one.
 
     The residuals r = (s, b) (6, P) come from the slots (:func:`deformable.physics.kernels.point_residuals`) minus
-    their rest values; the model gives W, F = dW/dr and Hr = d2W/dr^2; the kernels carry them to the slots:
-    gradient ``sum_r q_r F_r J_r``, Hessian ``sum_rq q_r Hr_rq J_r J_q^T + sum_r q_r F_r Hess(r)``.
+    their rest values; the model gives W, F = dW/dr and Hr = d2W/dr^2; the kernels carry them to the slots: gradient
+    ``sum_r q_r F_r J_r``, Hessian ``sum_rq q_r Hr_rq J_r J_q^T + sum_r q_r F_r Hess(r)``.
 
     Parameters
     ----------
@@ -249,8 +236,8 @@ class DensityIntegrand(_Points):
     params : dict name -> array (2, 2, *pts)
         The Material fields the model reads (``model.fields``) at the points.
     q : array (6, *pts)
-        The quadrature weight of each residual at each point (zero for a residual these points do not carry,
-        FD's parts; the same weight for every residual of a group the model couples).
+        The quadrature weight of each residual at each point (zero for a residual these points do not carry, FD's
+        parts; the same weight for every residual of a group the model couples).
     G0, B0 : arrays (2, 2, *pts)
         Rest tensors from the same slots (zero residuals at rest).
     slots : dict
@@ -301,8 +288,8 @@ class DensityIntegrand(_Points):
 
     # -- energy -----------------------------------------------------------------------
     def energy(self, v: np.ndarray) -> Energy:
-        """The density summed over the points with the weights q: (stretching, bending) (J); stretching is
-        W(s, 0), bending the rest (eq. (13): its eta and xi terms)."""
+        """The density summed over the points with the weights q: (stretching, bending) (J); stretching is W(s, 0),
+        bending the rest (eq. (13): its eta and xi terms)."""
         r, p = self._residuals(v), self.params
         parts = [(None, self.q[0])] if self._whole else [(g, self.q[g[0]]) for g in self.groups]
         total = stretching = 0.0

@@ -1,34 +1,24 @@
 r"""Compiled kernels (numba) of the energy's gradient and Hessian: per point, and summed into element blocks.
 
-The Hessian of eq. (13)'s integrand is the most frequent large computation of
-the energy-consistent model (one per Newton iteration). Written with numpy it
-needs points-first arrays of 7 x 3 x 7 x 3 entries per point and batched tiny
-products (measured at FD 64 x 64 nodes: 48 ms per Hessian, more than one
-factorisation of the Newton matrix); here each point is one loop body that
-works in scratch arrays, and the projection onto the element (FD: the six-node
-stencil) and the scatter into the fixed pattern are compiled loops too. (Measured
-at FD 64 x 64 nodes: 15 ms of CPU per Hessian; projecting inside the point loop
-saved 5 % and doubled the compile time, about 10 s on first use.)
+The Hessian of eq. (13)'s integrand is the most frequent large computation of the energy-consistent model (one per
+Newton iteration). Each point is one loop body that works in scratch arrays, and the projection onto the element (FD:
+the six-node stencil) and the scatter into the fixed pattern are compiled loops too.
 
-The formulas are those of :mod:`deformable.physics.integrand` (which documents them):
-at a point, with slot vectors d1, d2 (the metric), t1, t2 (the normal) and
-v11, v22, v12 (the curvature), residuals s = (G11, G22, G12), b = (B11, B22,
-B12), weights c (6,), and forces F = 2 c (s, b) - (f0, g0):
+The formulas are those of :mod:`deformable.physics.integrand` (which documents them): at a point, with slot vectors
+d1, d2 (the metric), t1, t2 (the normal) and v11, v22, v12 (the curvature), residuals s = (G11, G22, G12), b = (B11,
+B22, B12), weights c (6,), and forces F = 2 c (s, b) - (f0, g0):
 
 - Gauss-Newton: ``sum_r 2 c_r J_r J_r^T``, J_r the residual's gradient in the slots;
 - membrane: ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite");
-- bending: the second derivative of ``V . n``, ``V = sum_k F_bk v_k``,
-  ``n = c / |c|``, ``c = t1 x t2``. With ``W = (V - (V . n) n) / |c|``,
-  ``P = I - n n^T``, ``C = [-[t2]x, [t1]x]``:
-  ``Htt = C^T Hf C + [[0, -[W]x], [[W]x, 0]]``,
-  ``Hf = -(W n^T + n W^T) / |c| - (V . n) P / |c|^2``, and the mixed blocks
-  ``F_bk P C / |c|`` between v_k and (t1, t2);
-- "projected": the whole point Hessian projected onto its positive part by
-  an eigen-decomposition (Teran et al. 2005; Li et al. 2020),
-  :func:`positive_part` (numpy: LAPACK's batched eigh, and no LAPACK to compile).
+- bending: the second derivative of ``V . n``, ``V = sum_k F_bk v_k``, ``n = c / |c|``, ``c = t1 x t2``. With ``W =
+  (V - (V . n) n) / |c|``, ``P = I - n n^T``, ``C = [-[t2]x, [t1]x]``: ``Htt = C^T Hf C + [[0, -[W]x], [[W]x, 0]]``,
+  ``Hf = -(W n^T + n W^T) / |c| - (V . n) P / |c|^2``, and the mixed blocks ``F_bk P C / |c|`` between v_k and (t1,
+  t2);
+- "projected": the whole point Hessian projected onto its positive part by an eigen-decomposition (Teran et al.
+  2005; Li et al. 2020), :func:`positive_part` (numpy: LAPACK's batched eigh, and no LAPACK to compile).
 
-The gradient at a point is ``sum_r F_r J_r`` with the same Jacobian
-(:func:`point_gradients`), and its value :func:`energy_sums`. Kinds are integers here: :data:`KINDS`.
+The gradient at a point is ``sum_r F_r J_r`` with the same Jacobian (:func:`point_gradients`), and its value
+:func:`energy_sums`. Kinds are integers here: :data:`KINDS`.
 """
 
 from __future__ import annotations
@@ -83,8 +73,8 @@ def skew_into(a, M, r0, c0, sign):
 def _jacobian(v, sl, bend, bending, J, R, sc):
     """Residual values R (6,) (G11, G22, G12, B11, B22, B12) and their Jacobian J (6, 3S) in the slots at one point.
 
-    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0]. Without bending only the
-    three metric residuals are formed (R[3:] = 0).
+    Returns (number of residuals, |t1 x t2|); the unit normal is left in sc[0]. Without bending only the three
+    metric residuals are formed (R[3:] = 0).
     """
     S = v.shape[0]
     for r in range(6):
@@ -219,9 +209,9 @@ def add_bending_second_order(v, it1, it2, bend, F, n, area, H, V, W, Cm, Hf, T6,
 
 @njit(cache=True)
 def _second_order(v, sl, bend, F, kind, bending, area, n, H, sc, Cm, Hf, T6, Htt, Q):
-    """Add the residuals' own second derivatives, weighted by the forces F, to H (3S, 3S): the membrane part
-    ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite") and, with bending and
-    not "definite", the second derivative of ``V . n``, ``V = sum_k F_bk v_k`` (module docstring)."""
+    """Add the residuals' own second derivatives, weighted by the forces F, to H (3S, 3S): the membrane part ``[[2
+    F11, F12], [F12, 2 F22]] (x I3)`` on (d1, d2) (its positive part for "definite") and, with bending and not
+    "definite", the second derivative of ``V . n``, ``V = sum_k F_bk v_k`` (module docstring)."""
     i1, i2 = sl[0], sl[1]
     m11, m12, m22 = 2.0 * F[0], F[2], 2.0 * F[1]
     if kind == 2:
@@ -271,8 +261,8 @@ def _point(v, sl, bend, c, r0, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt,
 
 @njit(cache=True)
 def _point_general(v, sl, bend, Fp, Hr, kind, bending, J, H, F, act, sc, Cm, Hf, T6, Htt, Q, R, actq):
-    """The Hessian of a general energy density at one point into H (3S, 3S): the forces Fp (6,) and the
-    residual Hessian Hr (6, 6) given (:class:`deformable.physics.integrand.DensityIntegrand`)."""
+    """The Hessian of a general energy density at one point into H (3S, 3S): the forces Fp (6,) and the residual
+    Hessian Hr (6, 6) given (:class:`deformable.physics.integrand.DensityIntegrand`)."""
     nres, area = _jacobian(v, sl, bend, bending, J, R, sc)
     for k in range(6):
         F[k] = Fp[k] if k < nres else 0.0
@@ -337,8 +327,8 @@ def energy_sums(v, sl, bend, eta, G0, xi, B0, bending):
     """Eq. (13)'s integrand summed over the points: (stretching, bending) (J).
 
     ``eta``, ``G0``, ``xi``, ``B0``: (4, P), the components (11, 22, 12, 21) of the weights and rest tensors at each
-    point (weights already times the quadrature weights); the metric's and curvature's 12 and 21 components are
-    one value (G and B are symmetric), each weighed by its own weight against its own rest value.
+    point (weights already times the quadrature weights); the metric's and curvature's 12 and 21 components are one
+    value (G and B are symmetric), each weighed by its own weight against its own rest value.
     """
     P = v.shape[0]
     R, n = np.zeros(6), np.zeros(3)
@@ -395,8 +385,8 @@ def point_hessians(v, sl, bend, c, r0, kind, bending):
 
 @njit(cache=True, nogil=True)
 def point_hessians_general(v, sl, bend, F, Hr, kind, bending):
-    """The Hessian of a general density at every point, (P, 3S, 3S): forces F (6, P) and residual Hessians
-    Hr (6, 6, P) given (for "gauss-newton" and "definite", Hr positive semi-definite); other arguments as
+    """The Hessian of a general density at every point, (P, 3S, 3S): forces F (6, P) and residual Hessians Hr (6, 6,
+    P) given (for "gauss-newton" and "definite", Hr positive semi-definite); other arguments as
     :func:`point_hessians`."""
     P, S = v.shape[0], v.shape[1]
     J, Hp, Fs, act, sc, Cm, Hf, T6, Htt, Q, R, actq = _scratch(S)
@@ -471,11 +461,9 @@ def project_upper(Hp, B, row, T, start, mask):
 def element_upper(H, table, which, element, out):
     """Add every point's Hessian, projected onto its element, to the elements' upper triangles.
 
-    The block of point p on its element e = element[p] is ``B^T H_p B`` (x I3
-    in the coordinates), ``B = table[which[p]]`` (S, L) the coefficients of the
-    element's L local nodes (or basis functions) in the point's slots; local
-    index ``a L + l`` (coordinate a), upper entries in ``numpy.triu_indices(3 L)``
-    order.
+    The block of point p on its element e = element[p] is ``B^T H_p B`` (x I3 in the coordinates), ``B =
+    table[which[p]]`` (S, L) the coefficients of the element's L local nodes (or basis functions) in the point's
+    slots; local index ``a L + l`` (coordinate a), upper entries in ``numpy.triu_indices(3 L)`` order.
 
     Parameters
     ----------

@@ -1,33 +1,27 @@
 r"""Material parameters of eq. (11), (13) and (15).
 
-``mu`` (mass density) and ``gamma`` (damping density) of the equation of
-motion (11); the elasticity weights ``eta_ij`` (stretching) and ``xi_ij``
-(bending) of the energy (13); and, for the "frozen" force model of section 3.2
-(the controlled-continuity spline), the weights ``alpha_ij`` and ``beta_ij``
-given directly instead of through eq. (15).
+``mu`` (mass density) and ``gamma`` (damping density) of the equation of motion (11); the elasticity weights
+``eta_ij`` (stretching) and ``xi_ij`` (bending) of the energy (13); and, for the "frozen" force model of section 3.2
+(the controlled-continuity spline), the weights ``alpha_ij`` and ``beta_ij`` given directly instead of through eq.
+(15).
 
 Every weight may be
 
-- a scalar ``s``: the tensor diag(s, s), so ``w_12 = w_21 = 0`` (the paper's
-  choice, section 3.2, "eta_12 = eta_21 = xi_12 = xi_21 = 0");
+- a scalar ``s``: the tensor diag(s, s), so ``w_12 = w_21 = 0`` (the paper's choice, section 3.2, "eta_12 = eta_21 =
+  xi_12 = xi_21 = 0");
 - a symmetric 2 x 2 array: the same tensor at every point;
 - an (M, N) array: a scalar field on the node grid (diagonal tensor);
 - a (2, 2, M, N) array: a symmetric tensor field on the node grid;
-- a callable ``f(a1, a2)`` of the parameter coordinates (arrays of one shape S,
-  in m), returning an array of shape S (a scalar field: diagonal tensor) or
-  S + (2, 2) (components last, as ``Scene.rest_metric``'s callable). A backend
-  evaluates it where its terms live (:meth:`Material.tensor_at`): FD at the
-  centre of each difference term (:func:`fdmodel.operators.centred_tensor`),
-  FE at the Gauss points. Node arrays are carried to the same points (FD: the
-  mean of the nodes around a centre; FE: bilinear interpolation), so that a
-  weight varying over the sheet (a curved parameterisation, a graded fabric)
-  keeps FD second order. A callable is checked (finite, sign, symmetry) where
-  it is evaluated; it also keeps its meaning on every grid, where a node array
-  fits one.
+- a callable ``f(a1, a2)`` of the parameter coordinates (arrays of one shape S, in m), returning an array of shape S
+  (a scalar field: diagonal tensor) or S + (2, 2) (components last, as ``Scene.rest_metric``'s callable). A backend
+  evaluates it where its terms live (:meth:`Material.tensor_at`): FD at the centre of each difference term
+  (:func:`fdmodel.operators.centred_tensor`), FE at the Gauss points. Node arrays are carried to the same points
+  (FD: the mean of the nodes around a centre; FE: bilinear interpolation), so that a weight varying over the sheet
+  (a curved parameterisation, a graded fabric) keeps FD second order. A callable is checked (finite, sign, symmetry)
+  where it is evaluated; it also keeps its meaning on every grid, where a node array fits one.
 
-``mu`` and ``gamma`` are a scalar, an (M, N) field or a callable of shape S
-(lumped at the nodes on FD, at the Gauss points on FE). Units are those of the
-scene (SI in the shipped scenes): mu in kg/m^2, gamma in kg/(m^2 s), eta in
+``mu`` and ``gamma`` are a scalar, an (M, N) field or a callable of shape S (lumped at the nodes on FD, at the Gauss
+points on FE). Units are those of the scene (SI in the shipped scenes): mu in kg/m^2, gamma in kg/(m^2 s), eta in
 N/m (per unit of G, which is dimensionless), xi in N m (per unit of B, 1/m).
 """
 
@@ -54,8 +48,8 @@ def _as_array(name: str, value) -> np.ndarray:
 
 
 def _evaluate(name: str, f, a1, a2) -> np.ndarray:
-    """A callable weight at points (a1, a2) of shape S: its values, components first: (2, 2, *S) for a tensor,
-    S for a scalar field."""
+    """A callable weight at points (a1, a2) of shape S: its values, components first: (2, 2, *S) for a tensor, S for
+    a scalar field."""
     a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
     try:
         value = f(a1, a2)
@@ -170,8 +164,8 @@ class Material:
         return out
 
     def field_at(self, name: str, nodes: tuple[int, int], points, interpolate) -> np.ndarray:
-        """``mu`` or ``gamma`` at points ``(a1, a2)`` of shape S: a callable evaluated there (checked), a node
-        field carried there by ``interpolate`` ((..., M, N) -> (..., *S), the backend's own rule)."""
+        """``mu`` or ``gamma`` at points ``(a1, a2)`` of shape S: a callable evaluated there (checked), a node field
+        carried there by ``interpolate`` ((..., M, N) -> (..., *S), the backend's own rule)."""
         value = getattr(self, name)
         if not callable(value):
             return interpolate(self.field(name, nodes))
@@ -183,8 +177,8 @@ class Material:
         return out
 
     def tensor_at(self, name: str, nodes: tuple[int, int], points, interpolate) -> np.ndarray:
-        """Weight tensor ``name`` at points ``(a1, a2)`` of shape S, (2, 2, *S): a callable evaluated there
-        (checked for sign, finiteness and symmetry), node values carried there by ``interpolate``."""
+        """Weight tensor ``name`` at points ``(a1, a2)`` of shape S, (2, 2, *S): a callable evaluated there (checked
+        for sign, finiteness and symmetry), node values carried there by ``interpolate``."""
         value = getattr(self, name)
         if not callable(value):
             return interpolate(self.tensor(name, nodes))
@@ -198,8 +192,8 @@ class Material:
         return out
 
     def nodal(self, sheet) -> Material:
-        """This material with every callable replaced by its values at ``sheet``'s nodes (checked): what a
-        consumer of node fields (the stable-step estimate, the series, the trackers) reads."""
+        """This material with every callable replaced by its values at ``sheet``'s nodes (checked): what a consumer
+        of node fields (the stable-step estimate, the series, the trackers) reads."""
         if not self.varies():
             return self
         points = sheet.coordinates()
@@ -212,8 +206,8 @@ class Material:
         return dataclasses.replace(self, **changes)
 
     def check(self, nodes: tuple[int, int]) -> None:
-        """Raise ValueError if any per-node array does not fit a node grid of shape ``nodes`` (callables are
-        checked where they are evaluated)."""
+        """Raise ValueError if any per-node array does not fit a node grid of shape ``nodes`` (callables are checked
+        where they are evaluated)."""
         for name in _FIELDS:
             if not callable(getattr(self, name)):
                 self.field(name, nodes)

@@ -2,22 +2,20 @@ r"""The Hessian of eq. (13)'s integrand at a point, block by block, and carried 
 
 The general kernels of :mod:`deformable.physics.kernels` form a point's Hessian from a dense Jacobian of the six
 residuals in all 3S slot coordinates, a residual Hessian and the slots each residual touches, found by scanning:
-they serve any energy density. Eq. (13)'s own integrand, the one every shipped scene steps, has a diagonal
-residual Hessian ``2 c`` and residuals that touch known slots, so its Hessian is written here 3 x 3 block by
-3 x 3 block (the formulas of :mod:`deformable.physics.integrand`, in the same order as the general kernels'):
+they serve any energy density. Eq. (13)'s own integrand, the one every shipped scene steps, has a diagonal residual
+Hessian ``2 c`` and residuals that touch known slots, so its Hessian is written here 3 x 3 block by 3 x 3 block (the
+formulas of :mod:`deformable.physics.integrand`, in the same order as the general kernels'):
 
-- the metric (G11 = d1 . d1, G22 = d2 . d2, G12 = d1 . d2): Gauss-Newton ``2 c_r J_r J_r^T`` on the blocks of
-  (d1, d2), and the membrane's second order ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` (its positive part for
-  "definite");
-- the curvature (B_k = n . v_k, n = t1 x t2 / |t1 x t2|): Gauss-Newton on the blocks of (t1, t2, v_k), with
-  ``J_k = (t2 x w_k, w_k x t1, n)``, ``w_k = (v_k - B_k n) / |t1 x t2|``, and (exact Hessian only) the second
-  derivative of ``V . n``, ``V = sum_k F_bk v_k``, on (t1, t2) and its mixed blocks with each v_k.
+- the metric (G11 = d1 . d1, G22 = d2 . d2, G12 = d1 . d2): Gauss-Newton ``2 c_r J_r J_r^T`` on the blocks of (d1,
+  d2), and the membrane's second order ``[[2 F11, F12], [F12, 2 F22]] (x I3)`` (its positive part for "definite");
+- the curvature (B_k = n . v_k, n = t1 x t2 / |t1 x t2|): Gauss-Newton on the blocks of (t1, t2, v_k), with ``J_k =
+  (t2 x w_k, w_k x t1, n)``, ``w_k = (v_k - B_k n) / |t1 x t2|``, and (exact Hessian only) the second derivative of
+  ``V . n``, ``V = sum_k F_bk v_k``, on (t1, t2) and its mixed blocks with each v_k.
 
 A point's Hessian is then carried to its element (``B^T H B`` (x I3), B the slots' coefficients in the element's
-local nodes) by :func:`deformable.physics.kernels.element_upper`'s projection, over the slot blocks eq. (13)
-fills and the stencil's nonzero coefficients only, in the same loop (:func:`element_hessians`): no array of point
-Hessians. Measured at FD 64 x 64 nodes, one thread: the Hessian's kernels 25 ms before, against
-:func:`point_hessians` here ... (module docstring of :mod:`deformable.physics.integrand` for the formulas).
+local nodes) by :func:`deformable.physics.kernels.element_upper`'s projection, over the slot blocks eq. (13) fills
+and the stencil's nonzero coefficients only, in the same loop (:func:`element_hessians`): no array of point
+Hessians.
 """
 
 from __future__ import annotations
@@ -51,8 +49,8 @@ def _hessian(x, sl, bend, c, r0, kind, bending, H, sc, Cm, Hf, T6, Htt, Q, F):
     """Eq. (13)'s integrand's Hessian at one point into H (3S, 3S), cleared first (module docstring).
 
     x (S, 3): the point's slot vectors; c, r0 (6,): the residual weights and rest terms; kind 0 exact, 1
-    Gauss-Newton, 2 definite; the rest scratch: sc (6, 3), Cm (3, 6), Hf (3, 3), T6 (3, 6), Htt (6, 6), Q (3, 6),
-    F (6,) (the bending forces F[3:]).
+    Gauss-Newton, 2 definite; the rest scratch: sc (6, 3), Cm (3, 6), Hf (3, 3), T6 (3, 6), Htt (6, 6), Q (3, 6), F
+    (6,) (the bending forces F[3:]).
     """
     for i in range(H.shape[0]):
         for j in range(H.shape[1]):
@@ -131,8 +129,8 @@ def _scratch():
 
 @njit(cache=True, nogil=True)
 def point_hessians(v, sl, bend, c, r0, kind, bending):
-    """The Hessian of eq. (13)'s integrand at every point, (P, 3S, 3S) (index 3 slot + coordinate); the arguments
-    of :func:`deformable.physics.kernels.point_hessians` (kind 0, 1 or 2)."""
+    """The Hessian of eq. (13)'s integrand at every point, (P, 3S, 3S) (index 3 slot + coordinate); the arguments of
+    :func:`deformable.physics.kernels.point_hessians` (kind 0, 1 or 2)."""
     P, S = v.shape[0], v.shape[1]
     sc, Cm, Hf, T6, Htt, Q, F = _scratch()
     out = np.empty((P, 3 * S, 3 * S))

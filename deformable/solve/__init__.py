@@ -1,12 +1,12 @@
 """Newton's method and what it solves.
 
 - :mod:`.potential`: a model's potential over flat coordinate-blocked vectors (elastic energy, springs, contact);
-- :mod:`.newton`: Newton's method on it, with a definite fallback and factorisation reuse, and the protocol of
-  the direction filters a potential's terms supply (contact);
+- :mod:`.newton`: Newton's method on it, with a definite fallback and factorisation reuse, and the protocol of the
+  direction filters a potential's terms supply (contact);
 - :mod:`.search`: the line searches, registered strategies beside the loop (watchdog, Armijo);
 - :mod:`.equilibrium`: static equilibrium, ``grad E = F`` under load continuation;
-- :mod:`.continuation`: equilibrium paths by arc length, through limit points, with each point's stability
-  and branch switching at a simple bifurcation.
+- :mod:`.continuation`: equilibrium paths by arc length, through limit points, with each point's stability and
+  branch switching at a simple bifurcation.
 """
 
 from .continuation import Path, PathPoint, equilibrium_path

@@ -1,10 +1,10 @@
 r"""Equilibrium paths by arc-length continuation, through limit points, with stability and branch switching.
 
-The path of ``R(x, lambda) = grad E(x) + lambda grad Pi_m(x) - lambda F = 0`` over the free degrees of freedom,
-F the scene's applied loads at time t (body, edge, point) and Pi_m the potential of its edge moments, both
-scaled by the load factor lambda (springs and held values are not). Load control (:func:`equilibrium`'s load
-steps) fails where dlambda/ds changes sign, at a limit point (snap-through); the arc-length method
-constrains each increment (Delta x, Delta lambda) from the last point instead:
+The path of ``R(x, lambda) = grad E(x) + lambda grad Pi_m(x) - lambda F = 0`` over the free degrees of freedom, F
+the scene's applied loads at time t (body, edge, point) and Pi_m the potential of its edge moments, both scaled by
+the load factor lambda (springs and held values are not). Load control (:func:`.equilibrium.equilibrium`'s load
+steps) fails where dlambda/ds changes sign, at a limit point (snap-through); the arc-length method constrains each
+increment (Delta x, Delta lambda) from the last point instead:
 
     |Delta x|^2 + psi^2 Delta lambda^2 = Delta s^2,        q = -dR/dlambda = F - grad Pi_m(x)
 
@@ -21,14 +21,14 @@ load factor counts as: 0 (the default) is the cylindrical arc, the displacement 
 the usual choice for structures; a stiff path (a column before it buckles, whose displacement hardly grows
 with the load) needs psi > 0, or the first step's load factor is huge.
 
-Stability of each point: the inertia of K (:func:`deformable.solve.equilibrium.stability`, Sylvester's law),
-the count of its negative eigenvalues. Between two points the count changes by one at a limit point (where
-Delta lambda changes sign) or at a bifurcation (where it does not). Branch switching (``switch=True``): at
-the first point past a simple bifurcation, the path is taken up from the last stable point before it along
-the critical mode (the eigenvector of K's eigenvalue nearest 0 there, scaled to the arc length), with
-Delta lambda = 0 as predictor: eigenvector injection (Wagner and Wriggers 1988, "A simple method for the
-calculation of postcritical branches", Engineering Computations 5, 103-109), which for a symmetric
-bifurcation leaves the fundamental path for the secondary one.
+Stability of each point: the inertia of K (:func:`deformable.solve.equilibrium.stability`, Sylvester's law), the
+count of its negative eigenvalues. Between two points the count changes by one at a limit point (where Delta lambda
+changes sign) or at a bifurcation (where it does not). Branch switching (``switch=True``): at the first point past a
+simple bifurcation, the path is taken up from the last stable point before it along the critical mode (the
+eigenvector of K's eigenvalue nearest 0 there, scaled to the arc length), with Delta lambda = 0 as predictor:
+eigenvector injection (Wagner and Wriggers 1988, "A simple method for the calculation of postcritical branches",
+Engineering Computations 5, 103-109), which for a symmetric bifurcation leaves the fundamental path for the
+secondary one.
 """
 
 from __future__ import annotations
@@ -123,8 +123,8 @@ def equilibrium_path(model, X0, length: float, steps: int = 50, max_load: float 
     t : float
         The time the loads are taken at (s).
     psi : float
-        The displacement (scene units, m) one unit of load factor counts as in the constraint (0: the
-        cylindrical arc).
+        The displacement (scene units, m) one unit of load factor counts as in the constraint (0: the cylindrical
+        arc).
     tol : float
         Converged when the free residual's max-norm is at most tol times that of q (the load's).
     max_iter : int
@@ -230,9 +230,9 @@ def _step(x, lam, ds, previous, residual, matrix, q_of, free, psi, atol, max_ite
           fl_floor=(0.0,)):
     """One arc-length step from (x, lam): (x, lam, iterations), or None when it did not converge.
 
-    Converged when the free residual is at most ``atol`` or the round-off floor of the internal forces,
-    ``10 eps max|diag K| max(1, |x|)`` (Newton's, :mod:`deformable.solve.newton`, allows 1e3 eps: a path's
-    points are compared with each other, so they are solved a hundredfold further)."""
+    Converged when the free residual is at most ``atol`` or the round-off floor of the internal forces, ``10 eps
+    max|diag K| max(1, |x|)`` (Newton's, :mod:`deformable.solve.newton`, allows 1e3 eps: a path's points are
+    compared with each other, so they are solved a hundredfold further)."""
     q = q_of(x)
     qq = 1.0  # the constraint weighs Delta lambda by psi alone (module docstring)
     if predictor is None:

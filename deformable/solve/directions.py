@@ -1,34 +1,21 @@
-r"""Where Newton's directions come from: the Newton matrix, its factorisation kept while it pays, and inexact solves.
+"""Where Newton's directions come from: the Newton matrix, its factorisation kept while it pays, and inexact solves.
 
 :class:`Directions` is the linear algebra of one :class:`deformable.solve.newton.Newton` object (one run):
 
-- the Newton matrix ``c_M M + c_C C + Hess E`` (+ the springs' Hessian and
-  the wind's damping) is assembled as its free block's upper triangle, the
-  factorisation's own input, from the energy's element Hessians by
-  precomputed slots (:class:`deformable.algebra.upper.FreeUpper`); the
-  self-contact's Hessian, whose pattern follows the pairs in contact, on a
-  pattern that grows (``loose``);
-- a factorisation is made positive definite: by default ("auto") the exact
-  Hessian's when the factorisation finds it positive definite (Cholesky in
-  PARDISO, the pivots of SuperLU's LDL^T), else the *definite* Hessian's
-  (:mod:`deformable.physics.integrand`: Gauss-Newton plus the membrane's
-  tension stiffness); a Levenberg-Marquardt shift is the last resort for a
-  singular matrix. :attr:`exact` says which one is at hand;
-- a chord direction is a solve with the factorisation at hand, made at an
-  earlier iterate (of this solve or, under ``NewtonSettings(lag=True)``, of an
-  earlier time step), kept while the chords still needed cost less than a
-  factorisation (:meth:`slow`, a count);
-- an inexact direction (:meth:`inexact`) solves the exact Newton matrix at
-  the current iterate by conjugate gradients preconditioned by the
-  factorisation at hand (:mod:`deformable.solve.krylov`), within a budget of
-  iterations that costs no more than a new factorisation (from the times
-  measured in this run, :meth:`break_even`), and factorises that same matrix
-  when CG does not converge within it or meets negative curvature.
+- the Newton matrix ``c_M M + c_C C + Hess E`` (+ the springs' Hessian and the wind's damping) is assembled as its
+  free block's upper triangle by precomputed slots (:class:`deformable.algebra.upper.FreeUpper`), the self-contact's
+  Hessian on a pattern that grows (``loose``);
+- a factorisation is positive definite: by default ("auto") the exact Hessian's when the factorisation finds it so,
+  else the *definite* Hessian's (:mod:`deformable.physics.integrand`: Gauss-Newton plus the membrane's tension
+  stiffness); a Levenberg-Marquardt shift is the last resort for a singular matrix. :attr:`exact` says which;
+- a chord direction is a solve with a factorisation made at an earlier iterate (of this solve or, under ``lag``, of
+  an earlier time step), kept while the chords still needed cost less than a factorisation (:meth:`slow`);
+- an inexact direction (:meth:`inexact`) solves the exact Newton matrix by conjugate gradients preconditioned by the
+  factorisation at hand (:mod:`deformable.solve.krylov`), within a budget that costs no more than a new
+  factorisation (:meth:`break_even`), and factorises that matrix when CG does not converge.
 
-The costs are wall-clock seconds of this process, kept in each solve's
-:class:`deformable.solve.newton.NewtonReport` ("hessian", "factor", "solve");
-only the (opt-in) CG budget reads them, so only a run under ``krylov`` may
-depend on the machine's load.
+The costs are wall-clock seconds, kept in each :class:`deformable.solve.newton.NewtonReport`; only the CG budget,
+where the solver does not count, reads them.
 """
 
 from __future__ import annotations
@@ -51,14 +38,12 @@ __all__ = ["Directions"]
 #: CG's budget is at least this many iterations, at most this many
 CG_BUDGET = (2, 40)
 #: "auto" keeps factorisations across steps, and solves by preconditioned CG rather than refactorise, where one
-#: factorisation costs at least this many solves by the solver's own count (module docstring of
-#: :mod:`deformable.solve.newton`, "Fine grids": the curtain's FD 64 x 64 matrix costs 78, its 128 x 128 124)
+#: factorisation costs at least this many solves by the solver's own count (:mod:`deformable.solve.newton`)
 LAG_FROM = 100.0
 
 
 class Directions:
-    """The Newton matrix, its kept factorisation, chord and inexact directions of one Newton object (module
-    docstring).
+    """The Newton matrix, its kept factorisation, chord and inexact directions of one Newton object (module docstring).
 
     Parameters
     ----------
@@ -87,8 +72,8 @@ class Directions:
 
     # -- the matrix -----------------------------------------------------------------
     def matrix(self, x, cm: float, cc: float, report, kind: str | None = None):
-        """The free block of the Newton matrix at x (CSC), on the fixed pattern; ``kind``: the Hessian (default
-        the settings'; "auto" is the exact one here)."""
+        """The free block of the Newton matrix at x (CSC), on the fixed pattern; ``kind``: the Hessian (default the
+        settings'; "auto" is the exact one here)."""
         t0 = time.perf_counter()
         p = self.problem
         kind = kind or self.settings.hessian
@@ -157,9 +142,8 @@ class Directions:
         self._counted(report, t0)
 
     def _in_double(self) -> bool:
-        """A single-precision factorisation lost a pivot of a matrix meant to be positive definite: round-off of
-        float32, no proof of indefiniteness. True where the solver, turned to double precision for good, factorised
-        it (module docstring of :mod:`deformable.algebra.solvers`, "Single precision")."""
+        """Whether the solver, turned to double precision for good, factorised the matrix a single-precision
+        factorisation lost a pivot of (:mod:`deformable.algebra.solvers`, "Single precision")."""
         try:
             return self.solver.double()
         except SingularMatrix:
@@ -173,16 +157,16 @@ class Directions:
 
     # -- a checkpoint's memory ----------------------------------------------------------
     def memory(self) -> dict:
-        """Where the factorisation at hand was made, as numbers: {"x", "t", "cm", "cc", "damping"} (the iterate
-        (3 ndof,), the problem's time (s), the multipliers, the extra damping as COO rows, columns, values)."""
+        """Where the factorisation at hand was made, as numbers: {"x", "t", "cm", "cc", "damping"} (the iterate (3
+        ndof,), the problem's time (s), the multipliers, the extra damping as COO rows, columns, values)."""
         x, t, damping = self.made
         c = sp.coo_matrix((x.size, x.size)) if damping is None else sp.coo_matrix(damping)
         return {"x": x.tolist(), "t": t, "cm": self.factored[0], "cc": self.factored[1],
                 "damping": [c.row.tolist(), c.col.tolist(), c.data.tolist()]}
 
     def recall(self, lag) -> None:
-        """Factorise again the Newton matrix :meth:`memory` describes (InputError naming the key when it does
-        not fit this problem)."""
+        """Factorise again the Newton matrix :meth:`memory` describes (InputError naming the key when it does not
+        fit this problem)."""
         p = self.problem
         if not isinstance(lag, dict) or sorted(lag) != ["cc", "cm", "damping", "t", "x"]:
             raise InputError(f"memory.lag must hold x, t, cm, cc and damping, got {lag!r:.60}", field="memory.lag",
@@ -218,11 +202,10 @@ class Directions:
         return d
 
     def _remake(self, report) -> None:
-        """Factorise again, now in double precision, the Newton matrix the factorisation at hand was made of
-        (same iterate, time, multipliers and damping): "auto" falls back to its definite matrix, any other a
-        Levenberg-Marquardt shift (:meth:`factor_at`). Single precision cannot tell a nearly singular indefinite
-        matrix from a definite one: its Cholesky may pass where double precision's stops (the paper sheet of
-        ``deformable.scenes``, 1e6 N/m in stretching, compressed by the drawn rod, on FD 48 x 48 at t = 0.56 s)."""
+        """Factorise again, in double precision, the Newton matrix the factorisation at hand was made of (same
+        iterate, time, multipliers and damping): "auto" falls back to its definite matrix, any other a
+        Levenberg-Marquardt shift (:meth:`factor_at`). A float32 Cholesky may pass a nearly singular indefinite
+        matrix that double precision finds indefinite."""
         x, t, damping = self.made
         p, here, current = self.problem, self.here, self.damping
         before = getattr(p, "t", None)
@@ -235,16 +218,15 @@ class Directions:
         self.here, self.damping = here, current
 
     def cost(self, name: str) -> float:
-        """The last measured seconds of a "hessian" (the Newton matrix's assembly), "factor", "solve" or
-        "product" in this run (0 before the first)."""
+        """The last measured seconds of a "hessian" (the Newton matrix's assembly), "factor", "solve" or "product"
+        in this run (0 before the first)."""
         return self._cost[name] or 0.0
 
     def slow(self, size: float, last: float, xtol: float) -> bool:
-        """Whether to refactorise rather than go on with chord directions: the chord iterations still needed to
-        bring the direction's max-norm ``size`` under ``xtol`` at the contraction just seen (``size / last``)
-        outnumber the settings' ``chords`` (what a factorisation with its assembly costs, in chord iterations)
-        plus one; always when the contraction is above the settings' ``contraction``. A count, not measured
-        seconds, so that a run's trajectory does not depend on the machine's load."""
+        """Whether to refactorise rather than go on with chords: the chord iterations still needed to bring the
+        direction's max-norm ``size`` under ``xtol`` at the contraction ``size / last`` outnumber the settings'
+        ``chords`` plus one, or that contraction is above the settings' ``contraction``. A count, so that a
+        trajectory does not depend on the machine's load."""
         if size <= xtol:
             return False
         ratio = size / last
@@ -253,15 +235,15 @@ class Directions:
         return math.log(xtol / size) / math.log(ratio) > self.settings.chords + 1
 
     def costly(self) -> bool:
-        """Whether a factorisation costs at least :data:`LAG_FROM` solves by the solver's own count (False before the
-        first, or for a solver that does not count)."""
+        """Whether a factorisation costs at least :data:`LAG_FROM` solves by the solver's own count (False before
+        the first, or for a solver that does not count)."""
         ratio = self.solver.cost_ratio
         return ratio is not None and ratio >= LAG_FROM
 
     def break_even(self) -> int:
-        """CG's budget: the iterations (one solve and one product each) that cost one factorisation, within
-        :data:`CG_BUDGET`: half the solver's own count of the solves a factorisation costs, where it counts (the
-        same on every machine), else from the times measured in this run."""
+        """CG's budget within :data:`CG_BUDGET`: half the solver's own count of the solves a factorisation costs,
+        else the iterations (a solve and a product each) that cost one factorisation by the times measured in this
+        run."""
         ratio = self.solver.cost_ratio
         if ratio is not None:
             return int(min(CG_BUDGET[1], max(CG_BUDGET[0], ratio // 2)))
@@ -273,9 +255,8 @@ class Directions:
 
     def inexact(self, x, g: np.ndarray, d0: np.ndarray, cm: float, cc: float, rtol: float, report):
         """A direction for the exact Newton matrix at x: PCG from the chord direction ``d0``, preconditioned by the
-        factorisation at hand, to ``||A d + g|| <= rtol ||g||`` within :meth:`break_even` iterations; else that
-        matrix factorised (module docstring). Returns (d, whether CG converged); ``report.cg`` counts its
-        iterations."""
+        factorisation at hand, to ``||A d + g|| <= rtol ||g||`` within :meth:`break_even` iterations, else that
+        matrix factorised. Returns (d, whether CG converged); ``report.cg`` counts the iterations."""
         A = self.matrix(x, cm, cc, report, "newton" if self.settings.hessian == "auto" else None)
         budget = self.break_even()
         t0 = time.perf_counter()

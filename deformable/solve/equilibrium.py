@@ -1,31 +1,18 @@
-r"""Static equilibrium of a model with an energy: ``grad E(X) = F(t)`` at the free degrees of freedom.
+"""Static equilibrium of a model with an energy: ``grad E(X) = F(t)`` at the free degrees of freedom.
 
-E is the model's energy (the exact discrete eq. (13) for the "variational"
-model, the quadratic energy of the frozen model) plus the energy of the
-scene's springs at time t; the equilibrium minimises
-``E(x) - F . x`` by Newton's method (:class:`deformable.solve.newton.Newton`),
-optionally under load continuation.
+E is the model's energy (the exact discrete eq. (13) for the "variational" model, the quadratic energy of the frozen
+model) plus the energy of the scene's springs at time t; the equilibrium minimises ``E(x) - F . x`` by Newton's
+method (:class:`deformable.solve.newton.Newton`), optionally under load continuation.
 
-Stability. A stationary point of ``E - F . x`` need not be a minimum: a
-column loaded beyond its Euler load and started straight stays straight
-under Newton's method (the straight state is an equilibrium, and the load has
-no component along the buckling mode), a saddle of the energy. Its stability
-is the inertia of the Newton matrix at the solution, the exact Hessian
-``Hess E`` on the free degrees of freedom: the state is stable when no
-eigenvalue is negative, and each negative one is a direction along which the
-energy falls (Koiter's energy criterion). The count comes from Sylvester's
-law of inertia: SuperLU with a symmetric ordering and diagonal pivots
-factorises ``P A P^T = L D L^T`` (its U is ``D L^T``,
-:mod:`deformable.algebra.solvers`), and A has as many negative eigenvalues as
-D has negative pivots. Where a pivot is at round-off (a singular matrix: a
-bifurcation point, or deformations that cost no energy) the count is that of
-the negative eigenvalues among those nearest 0 (ARPACK in shift-invert mode,
-:func:`scipy.sparse.linalg.eigsh`), a lower bound. An unstable state warns
-(:class:`deformable.errors.UnstableEquilibrium`); ``perturb`` finds the
-stable branch next to it: the state is moved along the eigenvector of the
-lowest eigenvalue (the buckling mode) by ``perturb`` and solved again, as an
-imperfection of that amplitude would select it (the same recipe by hand:
-``X + a * mode`` as the start of another call).
+Stability. A stationary point of ``E - F . x`` need not be a minimum (a column beyond its Euler load, started
+straight, stays straight: a saddle). Its stability is the inertia of the exact Hessian on the free degrees of
+freedom: stable when no eigenvalue is negative, each negative one a direction along which the energy falls (Koiter's
+energy criterion). The count comes from Sylvester's law of inertia on SuperLU's ``P A P^T = L D L^T`` (symmetric
+ordering, diagonal pivots; :mod:`deformable.algebra.solvers`); where a pivot is at round-off (a bifurcation point,
+or deformations that cost no energy) it is the count of negative eigenvalues among those nearest 0 (ARPACK in
+shift-invert mode, :func:`scipy.sparse.linalg.eigsh`), a lower bound. An unstable state warns
+(:class:`deformable.errors.UnstableEquilibrium`); ``perturb`` moves it along the eigenvector of the lowest
+eigenvalue (the buckling mode) and solves again, as an imperfection of that amplitude would select the branch.
 """
 
 from __future__ import annotations
@@ -58,11 +45,11 @@ class Stability:
     Attributes
     ----------
     negative : int
-        Negative eigenvalues of the exact Hessian of ``E - F . x`` on the free degrees of freedom: the
-        directions along which the energy falls (0: a stable state, a minimum).
+        Negative eigenvalues of the exact Hessian of ``E - F . x`` on the free degrees of freedom: the directions
+        along which the energy falls (0: a stable state, a minimum).
     method : str
-        "pivots" (Sylvester's law on the LDL^T factorisation: exact) or "eigenvalues" (the negative
-        ones among the eigenvalues nearest 0, a lower bound, where a pivot was at round-off).
+        "pivots" (Sylvester's law on the LDL^T factorisation: exact) or "eigenvalues" (the negative ones among the
+        eigenvalues nearest 0, a lower bound, where a pivot was at round-off).
     lowest : float or None
         The lowest eigenvalue found (N/m), where it was computed (an unstable state, or "eigenvalues").
     mode : array (ndof, 3) or None
@@ -160,21 +147,19 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
     X0 : array (ndof, 3)
         Starting positions; held degrees of freedom keep their prescribed values at t.
     tol : float
-        Relative tolerance on the max-norm of the free residual (relative to
-        the larger of the load and the starting residual), never below the
-        round-off floor of the internal forces.
+        Relative tolerance on the max-norm of the free residual (relative to the larger of the load and the starting
+        residual), never below the round-off floor of the internal forces.
     max_iter : int
         Newton iterations per load step.
     load_steps : int
-        Apply the load in this many equal increments (continuation), each
-        solved to the tolerance.
+        Apply the load in this many equal increments (continuation), each solved to the tolerance.
     newton : dict, optional
         Further :class:`deformable.solve.newton.NewtonSettings` (hessian, solver, reuse).
     perturb : float, optional
-        When the state found is unstable, move it by ``perturb`` (scene units, the largest displacement)
-        along the eigenvector of the Newton matrix's lowest eigenvalue and solve again, up to
-        :data:`RESTARTS` times (module docstring): the stable branch next to a saddle, e.g. the buckled
-        column. Default: none (the state found is returned, with a warning when unstable).
+        When the state found is unstable, move it by ``perturb`` (scene units, the largest displacement) along the
+        eigenvector of the Newton matrix's lowest eigenvalue and solve again, up to :data:`RESTARTS` times: the
+        stable branch next to a saddle, e.g. the buckled column. Default: none (the state found is returned, with a
+        warning when unstable).
     check_stability : bool
         Count the negative eigenvalues of the Newton matrix at the solution (default True; one further
         factorisation) and warn (:class:`deformable.errors.UnstableEquilibrium`) when there are any.
@@ -183,8 +168,8 @@ def equilibrium(model, X0, tol: float = 1e-10, t: float = 0.0, max_iter: int = 2
     -------
     X : array (ndof, 3)
     history : History
-        Residual max-norm per iteration (N), a list; ``history.stability`` is the :class:`Stability` of X
-        (None when not checked).
+        Residual max-norm per iteration (N), a list; ``history.stability`` is the :class:`Stability` of X (None when
+        not checked).
 
     Raises
     ------

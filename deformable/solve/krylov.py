@@ -1,23 +1,13 @@
-r"""Preconditioned conjugate gradients for Newton's inexact directions.
+"""Preconditioned conjugate gradients for Newton's inexact directions.
 
-Newton's loop (:mod:`deformable.solve.newton`) keeps a factorisation of a
-recent Newton matrix. When a chord direction from it stops contracting, the
-exact Newton matrix A at the current iterate is assembled and A d = -g is
-solved by conjugate gradients preconditioned by that factorisation (Hestenes
-and Stiefel 1952; Saad 2003, "Iterative Methods for Sparse Linear Systems",
-algorithm 9.1), to the relative residual of an Eisenstat-Walker forcing term
-(Eisenstat and Walker 1996, "Choosing the forcing terms in an inexact Newton
-method", SIAM J. Sci. Comput. 17, choice 2), and with at most the number of
-iterations that costs as much as a new factorisation (the break-even count,
-from the solver's own measured times). CG stops at the first direction of
-non-positive curvature: the exact matrix is then not positive definite and
-Newton factorises instead (its definite fallback).
-
-Each iteration is one product with A (CSR, compiled in SciPy) and one solve
-with the factorisation (PARDISO's or SuperLU's triangular solves, compiled):
-the loop's Python overhead is a few vector operations on n unknowns, well
-under the cost of either (measured on FD 64 x 64 nodes, 12 220 unknowns:
-product 0.3 ms, solve 2.8 ms), so the loop itself is not compiled.
+Newton's loop (:mod:`deformable.solve.newton`) keeps a factorisation of a recent Newton matrix. When a chord
+direction from it stops contracting, the exact Newton matrix A at the current iterate is assembled and A d = -g is
+solved by conjugate gradients preconditioned by that factorisation (Hestenes and Stiefel 1952; Saad 2003, "Iterative
+Methods for Sparse Linear Systems", algorithm 9.1), to the relative residual of an Eisenstat-Walker forcing term
+(Eisenstat and Walker 1996, SIAM J. Sci. Comput. 17, choice 2), within the iterations that cost as much as a new
+factorisation. CG stops at the first direction of non-positive curvature: the exact matrix is then not positive
+definite and Newton factorises instead (its definite fallback). Each iteration is one product with A and one solve
+with the factorisation, both compiled; the loop itself is Python.
 """
 
 from __future__ import annotations
@@ -31,8 +21,8 @@ __all__ = ["CGResult", "pcg", "forcing"]
 
 @dataclass(frozen=True)
 class CGResult:
-    """x: the approximate solution (n,); iterations: products with A; status: "converged", "indefinite" (a
-    direction of non-positive curvature met) or "budget" (the iteration budget spent)."""
+    """x: the approximate solution (n,); iterations: products with A; status: "converged", "indefinite" (a direction
+    of non-positive curvature met) or "budget" (the iteration budget spent)."""
 
     x: np.ndarray
     iterations: int

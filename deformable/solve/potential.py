@@ -1,19 +1,14 @@
-r"""A model's potential over flat coordinate-blocked vectors: what Newton's method minimises.
+"""A model's potential over flat coordinate-blocked vectors: what Newton's method minimises.
 
-The implicit time steps (:mod:`deformable.dynamics.implicit`) and static
-equilibrium (:mod:`deformable.solve.equilibrium`) minimise a potential
-``Phi(x) = (inertia and damping terms) + E(x) - F . x`` over the free degrees
-of freedom. :class:`FlatEnergy` gives its elastic part E over flat vectors
-(index ``a * ndof + k`` for coordinate a of degree of freedom k, the
-backend contract's layout): the model's energy (the exact gradient of
-eq. (13), or the frozen model's quadratic energy), the scene's springs
-(:class:`deformable.physics.loads.Loads`) at the time :attr:`FlatEnergy.t`
-and, with obstacles or self-contact, the barriers and friction
-(:class:`deformable.contact.terms.ContactTerms`), with their
-gradients and Hessians, the mass and damping in the same layout, the applied
-loads and the held degrees of freedom. The self-contact's Hessian changes
-its pattern with the pairs in contact: :meth:`FlatEnergy.loose_hessians`,
-apart from the fixed-pattern ones.
+The implicit time steps (:mod:`deformable.dynamics.implicit`) and static equilibrium
+(:mod:`deformable.solve.equilibrium`) minimise ``Phi(x) = (inertia and damping terms) + E(x) - F . x`` over the free
+degrees of freedom. :class:`FlatEnergy` gives its elastic part E over flat vectors (index ``a * ndof + k`` for
+coordinate a of degree of freedom k, the backend contract's layout): the model's energy (the exact gradient of eq.
+(13), or the frozen model's quadratic energy), the scene's springs (:class:`deformable.physics.loads.Loads`) at the
+time :attr:`FlatEnergy.t` and, with obstacles or self-contact, the barriers and friction
+(:class:`deformable.contact.terms.ContactTerms`), with gradients and Hessians; the mass and damping in the same
+layout, the applied loads and the held degrees of freedom. The self-contact's Hessian changes its pattern with the
+pairs in contact (:meth:`FlatEnergy.loose_hessians`).
 """
 
 from __future__ import annotations
@@ -59,8 +54,8 @@ class FlatEnergy:
     factor : float
         The load factor of the state-dependent loads (the edge moments; 1 but in ``equilibrium``'s load steps).
     length : float
-        The grid's shortest spacing (scene units, m in the shipped scenes): an iterate that moved further than
-        this is far from where a kept factorisation was made (:class:`deformable.solve.newton.Newton`).
+        The grid's shortest spacing (scene units, m in the shipped scenes): an iterate that moved further than this
+        is far from where a kept factorisation was made (:class:`deformable.solve.newton.Newton`).
     linear : bool
         The Newton matrix does not depend on x (the frozen model, with linear springs at most, no wind, no
         obstacles).
@@ -137,8 +132,8 @@ class FlatEnergy:
         return (self.hessian(x, kind), None) if parts is None else parts
 
     def extra_hessians(self, x, damping=None, kind: str = "newton") -> list:
-        """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians
-        at x (the contact's of ``kind``), and ``damping``."""
+        """The matrices the Newton matrix adds to the elastic Hessian: the springs' and the contact's Hessians at x
+        (the contact's of ``kind``), and ``damping``."""
         out = []
         if self.loads.potentials:
             out += self.loads.potential_hessians(unflat(x, self.n), self.t, self.factor)
@@ -155,8 +150,8 @@ class FlatEnergy:
         return [] if self.contact is None else self.contact.loose_hessians(x)
 
     def loose_reserve(self) -> tuple[np.ndarray, np.ndarray]:
-        """The couplings the loose Hessians may have within the step, (rows, columns) (:meth:`ContactTerms.reserve`):
-        what Newton's matrix adds to its pattern where it must grow anyway."""
+        """The couplings the loose Hessians may have within the step, (rows, columns)
+        (:meth:`ContactTerms.reserve`): what Newton's matrix adds to its pattern where it must grow anyway."""
         return (np.zeros(0, np.int64),) * 2 if self.contact is None else self.contact.reserve()
 
     def load(self, t: float) -> np.ndarray:

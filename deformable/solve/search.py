@@ -1,37 +1,25 @@
-r"""Line searches of Newton's method: strategies beside the loop, registered by name.
+"""Line searches of Newton's method: strategies beside the loop, registered by name.
 
-Newton's loop (:class:`deformable.solve.newton.Newton`) computes a direction,
-lets the potential's direction filter change and clip it (contact), and
-hands the search its candidates; the search returns the next iterate. A
-search is built once per solve (it may keep state between iterations) with
-the potential phi, its gradient, the free degrees of freedom and the
-settings' Armijo constant c (``NewtonSettings(armijo=...)``, default 1e-4).
-A candidate is a direction over the free degrees of freedom with its slope
-g . d < 0 (:class:`Candidate`); the first is the preferred one, the second,
-when there is one, is produced only if the search asks for it (contact:
-Newton's own clipped direction, when the solved contact normals fail to
-decrease phi from the iterate).
+Newton's loop (:class:`deformable.solve.newton.Newton`) computes a direction, lets the potential's direction filter
+change and clip it (contact), and hands the search its candidates; the search returns the next iterate. A search is
+built once per solve (it may keep state between iterations) with the potential phi, its gradient, the free degrees
+of freedom and the Armijo constant c (``NewtonSettings(armijo=...)``, default 1e-4). A candidate is a direction over
+the free degrees of freedom with its slope g . d < 0 (:class:`Candidate`); the first is the preferred one, the
+second, if any, is produced only when the search asks for it (contact: Newton's own clipped direction, when the
+solved contact normals fail to decrease phi).
 
-- ``"watchdog"`` (:class:`Watchdog`, the default; Chamberlain, Powell,
-  Lemarechal and Pedersen 1982, "The watchdog technique for forcing
-  convergence in algorithms for constrained optimization", Math. Prog.
-  Study 16): full Newton steps are taken even when phi grows, for at most
-  :attr:`Watchdog.steps` steps in a row; if none of them brings a sufficient
-  (Armijo) decrease against the last good point, the search goes back to
-  that point and backtracks along its direction. phi is evaluated only to
-  weigh a step: a full step whose residual meets the tolerance ends the
-  solve without it (measured on the curtain, FD 24 x 24 nodes, 40 steps:
-  1.05 evaluations of phi a step against 2.5, the same iterates). Newton's
-  method keeps its quadratic convergence through the nonconvex stretches of
-  elastica-like problems (measured: 16-19 iterations for a cantilever bent
-  to P L^2/EI = 4 from flat), where a backtracking search under a bound on
-  the step took 65-70.
-- ``"armijo"`` (:class:`Armijo`): monotone backtracking from every iterate,
-  halving the step until ``phi(x + s d) <= phi(x) + c s g . d``
-  (Nocedal and Wright 2006, "Numerical Optimization", algorithm 3.1).
+- ``"watchdog"`` (:class:`Watchdog`, the default; Chamberlain, Powell, Lemarechal and Pedersen 1982, "The watchdog
+  technique for forcing convergence in algorithms for constrained optimization", Math. Prog. Study 16): full Newton
+  steps are taken even when phi grows, for at most :attr:`Watchdog.steps` steps in a row; if none brings a
+  sufficient (Armijo) decrease against the last good point, the search goes back to that point and backtracks along
+  its direction. phi is evaluated only to weigh a step: a full step whose residual meets the tolerance ends the
+  solve without it. Newton keeps its quadratic convergence through the nonconvex stretches of elastica-like
+  problems.
+- ``"armijo"`` (:class:`Armijo`): monotone backtracking from every iterate, halving the step until ``phi(x + s d) <=
+  phi(x) + c s g . d`` (Nocedal and Wright 2006, "Numerical Optimization", algorithm 3.1).
 
-A search knows no contact: the directions it is given are safe as they are
-(clipped by the filter), and so is every fraction of them.
+A search knows no contact: the directions it is given are safe as they are (clipped by the filter), and so is every
+fraction of them.
 """
 
 from __future__ import annotations
@@ -81,8 +69,8 @@ class LineSearch(Registered, family="line search"):
              residual: float):
         """The next iterate from x and, when the search computed it, its free gradient (else None).
 
-        ``first``: the preferred candidate; ``fallback()``: the next one, if any; ``target``: the residual
-        (max-norm of the free gradient) at which Newton stops; ``residual``: the current one (for messages).
+        ``first``: the preferred candidate; ``fallback()``: the next one, if any; ``target``: the residual (max-norm
+        of the free gradient) at which Newton stops; ``residual``: the current one (for messages).
         """
         raise NotImplementedError
 

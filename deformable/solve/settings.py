@@ -1,6 +1,5 @@
-"""What a Newton solve is asked and what it tells: :class:`NewtonSettings` (checked) and :class:`NewtonReport`.
-
-The method itself, and what each setting does, is :mod:`deformable.solve.newton`'s docstring.
+"""What a Newton solve is asked and what it tells: :class:`NewtonSettings` (checked) and :class:`NewtonReport`; the
+method is :mod:`deformable.solve.newton`'s docstring.
 """
 
 from __future__ import annotations
@@ -15,7 +14,7 @@ from .search import LineSearch
 
 __all__ = ["NewtonReport", "NewtonSettings", "TESTS"]
 
-#: the convergence tests (module docstring, "Convergence tests")
+#: the convergence tests (:mod:`deformable.solve.newton`, "Convergence tests")
 TESTS = ("step", "force")
 #: the factorisations' precision (NewtonSettings.precision)
 PRECISIONS = ("auto", "single", "double")
@@ -32,7 +31,7 @@ class NewtonReport:
     scale: float = 0.0  # the residual rtol is relative to (N)
     tolerance: float = 0.0  # the residual the solve had to reach (N)
     load: float | None = None  # max-norm of the applied load on the free dofs, where the tolerance needed it (N)
-    lost: bool = False  # the load was at or below the tolerance and the residual stayed of its size (module docstring)
+    lost: bool = False  # the load was at or below the tolerance and the residual stayed of its size (solve.newton)
     factorisations: int = 0
     fallbacks: int = 0  # exact Newton matrices found indefinite ("auto": the definite one took their place)
     cg: int = 0  # conjugate-gradient iterations (products with the Newton matrix) of the inexact directions
@@ -49,46 +48,40 @@ class NewtonSettings:
     Parameters
     ----------
     rtol, atol : float
-        Converged when the max-norm of the free residual is at most ``max(rtol * scale, atol)`` (atol in
-        N), never below the round-off floor of the internal forces; the scale is the residual at the start
-        unless the caller gives one. In a time step it is the force imbalance at the inertial predictor
-        x_n + dt v_n, so rtol bounds the Newton error against the step's correction, itself of the size of
-        implicit Euler's local error. Measured on the curtain (FD 16 x 16 nodes, 1 s at dt = 5 ms), the
-        largest position difference from a solve to rtol = 1e-10: 5.9e-5 m at the default rtol = 1e-3
-        (1.65 iterations a step), 1.4e-6 m at 1e-4 (2.05), against 3.5e-2 m between dt and dt / 2: the
-        Newton error is 0.2 % of the scheme's own. A study of temporal order asks for less (e.g. 1e-10).
-        atol is capped at rtol times the applied load, so that it never swallows a load far below 1 N
-        (module docstring, "Loads below the absolute terms of the tolerance").
+        Converged when the max-norm of the free residual is at most ``max(rtol * scale, atol)`` (atol in N), never
+        below the round-off floor of the internal forces; the scale is the residual at the start unless the caller
+        gives one (in a time step: the force imbalance at the inertial predictor x_n + dt v_n, so rtol bounds the
+        Newton error against the step's correction; a study of temporal order asks for less, e.g. 1e-10). atol is
+        capped at rtol times the applied load (:mod:`deformable.solve.newton`, "Loads below the absolute terms of
+        the tolerance").
     max_iter : int
         Iterations per solve (0 allowed: a solve that must already be converged).
     hessian : str
-        "auto" (default): the exact Hessian when the Newton matrix it gives is positive definite (the
-        factorisation tells), else the "definite" one; or one of "definite", "newton", "gauss-newton",
-        "projected" (:mod:`deformable.physics.integrand`).
+        "auto" (default): the exact Hessian when the Newton matrix it gives is positive definite (the factorisation
+        tells), else the "definite" one; or one of "definite", "newton", "gauss-newton", "projected"
+        (:mod:`deformable.physics.integrand`).
     solver : str
         "auto", "superlu" or "pardiso" (:mod:`deformable.algebra.solvers`).
     reuse : bool
-        Keep a factorisation while it contracts (module docstring).
+        Keep a factorisation while it contracts.
     search : str
-        The line search, a registered :class:`deformable.solve.search.LineSearch`: "watchdog" (default) or
-        "armijo".
+        The line search, a registered :class:`deformable.solve.search.LineSearch`: "watchdog" (default) or "armijo".
     armijo : float
         The sufficient-decrease constant c of the line search's Armijo test, in (0, 1/2).
     test, vtol : str, float
-        "step" (default) or "force": "step" is also converged on a trusted direction no longer than vtol dt
-        (vtol in m/s; time steps without obstacles; module docstring, "Convergence tests").
+        "step" (default) or "force": "step" is also converged on a trusted direction no longer than vtol dt (vtol in
+        m/s; time steps without obstacles; :mod:`deformable.solve.newton`, "Convergence tests").
     lag, contraction, chords, krylov : bool or "auto", float, float, bool or "auto"
         Under "step": keep a factorisation across steps; refactorise when a chord contracts less than
-        ``contraction``, or when the chords still needed outnumber ``chords`` + 1 (a factorisation with its
-        assembly costs about ``chords`` chord iterations: 7-8 at FD 64-128, one thread); PCG on the exact matrix
-        preconditioned by the factorisation at hand instead of a refactorisation. "auto" (the default, both): on
-        where a factorisation costs at least :data:`deformable.solve.directions.LAG_FROM` solves by the solver's
-        own count (module docstring of :mod:`deformable.solve.newton`, "Fine grids"), off elsewhere.
+        ``contraction``, or when the chords still needed outnumber ``chords`` + 1 (the cost of a factorisation with
+        its assembly, in chord iterations); PCG on the exact matrix preconditioned by the factorisation at hand
+        instead of a refactorisation. "auto" (both defaults): on where a factorisation costs at least
+        :data:`deformable.solve.directions.LAG_FROM` solves by the solver's own count, off elsewhere.
     fallback : str
         The matrix factorised where the exact one is indefinite: "definite" (default) or "projected".
     precision : str
-        PARDISO's Cholesky in "single" or "double" precision; "auto" (default): single in time steps, whose
-        Newton matrices the inertia keeps well conditioned, double in equilibrium (:mod:`deformable.algebra.solvers`,
+        PARDISO's Cholesky in "single" or "double" precision; "auto" (default): single in time steps, whose Newton
+        matrices the inertia keeps well conditioned, double in equilibrium (:mod:`deformable.algebra.solvers`,
         "Single precision").
     """
 

@@ -3,12 +3,13 @@
 - :class:`TPBF87` (``"tpbf87"``): the paper's force (14)-(15), a strength matrix K(r) (:mod:`.tpbf87`);
 - :class:`Frozen` (``"frozen"``): alpha and beta given directly, section 3.2 (:mod:`.frozen`);
 - :class:`Variational` (``"variational"``): the exact gradient of the energy (13) (:mod:`.variational`);
-- :class:`Koiter` (``"koiter"``): Koiter's isotropic shell, E, nu and h, strains in the rest metric (:mod:`.koiter`);
-- :class:`Orthotropic` (``"orthotropic"``): the same shell with a fabric's orthotropic law, warp and weft
-  moduli and a shear modulus (:mod:`.orthotropic`).
+- :class:`Koiter` (``"koiter"``): Koiter's isotropic shell, E, nu and h, strains in the rest metric
+  (:mod:`.koiter`);
+- :class:`Orthotropic` (``"orthotropic"``): the same shell with a fabric's orthotropic law, warp and weft moduli and
+  a shear modulus (:mod:`.orthotropic`).
 
-A new energy is one subclass of :class:`EnergyModel` with a ``name`` and its density W(s, b) with two
-derivatives (examples/custom_energy.py).
+A new energy is one subclass of :class:`EnergyModel` with a ``name`` and its density W(s, b) with two derivatives
+(examples/custom_energy.py).
 """
 
 from .base import RESIDUALS, EnergyModel, ForceModel, StrengthModel, energy_density

@@ -1,37 +1,26 @@
-r"""What a force model is: the force e(r) of the equation of motion (11), as an object that answers for itself.
+"""What a force model is: the force e(r) of the equation of motion (11), as an object that answers for itself.
 
-Every question the code asks of a force model is a class attribute or a
-method here; a new force model is one subclass with a ``name``, registered
-by the project's one registry (:mod:`deformable.registry`), and accepted
-wherever a name is (``Scene(force_model=...)``, scene files,
-``deformable run --force-model``).
+Every question the code asks of a force model is a class attribute or a method here; a new force model is one
+subclass with a ``name``, registered by the project's registry (:mod:`deformable.registry`), and accepted wherever a
+name is (``Scene(force_model=...)``, scene files, ``deformable run --force-model``). Two kinds:
 
-Two kinds:
-
-- :class:`StrengthModel`: a force written as the strength matrix of eq. (20),
-  ``e(r) = K(r) R`` with ``K = sum_ij D_i^T diag(alpha_ij) D_j + D_ij^T
-  diag(beta_ij) D_ij``; the model supplies the coefficients alpha_ij and
-  beta_ij at the backend's points (:meth:`StrengthModel.coefficients`). The
-  paper's force (14)-(15) and the frozen model of section 3.2 are such.
-- :class:`EnergyModel`: a force that is the exact gradient of an energy
-  ``E = integral W(s, b) da1 da2`` whose density W depends on the surface
-  only through the residuals of the metric and the curvature,
+- :class:`StrengthModel`: a force written as the strength matrix of eq. (20), ``e(r) = K(r) R`` with ``K = sum_ij
+  D_i^T diag(alpha_ij) D_j + D_ij^T diag(beta_ij) D_ij``; the model supplies the coefficients alpha_ij and beta_ij
+  at the backend's points (:meth:`StrengthModel.coefficients`). The paper's force (14)-(15) and the frozen model of
+  section 3.2 are such.
+- :class:`EnergyModel`: a force that is the exact gradient of an energy ``E = integral W(s, b) da1 da2`` whose
+  density W depends on the surface only through the residuals of the metric and the curvature,
 
       s = (G11 - G0_11, G22 - G0_22, G12 - G0_12),   b = (B11 - B0_11, B22 - B0_22, B12 - B0_12),
 
-  six numbers per point in the order of :data:`RESIDUALS` (G and B are
-  symmetric, so 12 and 21 share one residual). The model supplies W, its
-  gradient ``dW/d(s, b)`` (6, P) and its Hessian ``d2W/d(s, b)^2`` (6, 6, P);
-  the backends own the geometry (the slots of :mod:`deformable.physics.integrand`)
-  and the chain rule, so the new energy runs on finite differences and
-  finite elements with its exact gradient and Hessian. Eq. (13) is one such
-  model (:class:`~deformable.physics.force_models.variational.Variational`).
+  six numbers per point in the order of :data:`RESIDUALS`. The model supplies W, its gradient ``dW/d(s, b)`` (6, P)
+  and its Hessian ``d2W/d(s, b)^2`` (6, 6, P); the backends own the geometry (the slots of
+  :mod:`deformable.physics.integrand`) and the chain rule. Eq. (13) is one such model
+  (:class:`~deformable.physics.force_models.variational.Variational`).
 
-Which residuals a density couples (:attr:`EnergyModel.couples`) matters to
-finite differences only: FD places each term of eq. (13) where its
-difference stencil is centred, so a density that is a sum of terms in single
-residuals keeps that second-order quadrature; residuals a density couples
-must be evaluated at one point (:mod:`fdmodel.energy` says where).
+Which residuals a density couples (:attr:`EnergyModel.couples`) matters to finite differences only: FD places each
+term of eq. (13) where its difference stencil is centred (second order), and evaluates residuals a density couples
+at one point (:mod:`fdmodel.energy` says where).
 """
 
 from __future__ import annotations
@@ -60,8 +49,8 @@ def energy_density(eta, xi, G, G0, B, B0) -> tuple[np.ndarray, np.ndarray]:
     eta, xi : arrays (2, 2, *pts)
         Weights (times any quadrature weight per component, as FD's row weights).
     G, G0, B, B0 : arrays (2, 2, *pts)
-        Metric and curvature, and their rest values. ``B`` may be None when xi
-        is zero everywhere (no normal is formed then); the bending density is 0.
+        Metric and curvature, and their rest values. ``B`` may be None when xi is zero everywhere (no normal is
+        formed then); the bending density is 0.
     """
     stretching = np.sum(eta * (G - G0) ** 2, axis=(0, 1))
     if B is None:
@@ -83,8 +72,8 @@ class _class_or_instance:
 class ForceModel(Registered, family="force model"):
     """The force e(r) of eq. (11), with what the solvers and backends need to know of it.
 
-    Subclass :class:`StrengthModel` or :class:`EnergyModel` (not this class)
-    and give the class attributes below that differ from their defaults.
+    Subclass :class:`StrengthModel` or :class:`EnergyModel` (not this class) and give the class attributes below
+    that differ from their defaults.
 
     Class attributes
     ----------------
@@ -101,14 +90,14 @@ class ForceModel(Registered, family="force model"):
     scheme : str
         The time-stepping scheme taken by default (:mod:`deformable.dynamics`).
     weights : (str, str)
-        The Material fields that carry its stretching and bending weights (``("eta", "xi")``; the frozen
-        model's ``("alpha", "beta")``).
+        The Material fields that carry its stretching and bending weights (``("eta", "xi")``; the frozen model's
+        ``("alpha", "beta")``).
     stiffness : (float, float)
-        Its linearised stretching and bending stiffness per unit weight about a rest state, relative to the
-        paper's force (14): eq. (13)'s gradient is (4, 2) (:func:`deformable.scenes.equivalent_weights`).
+        Its linearised stretching and bending stiffness per unit weight about a rest state, relative to the paper's
+        force (14): eq. (13)'s gradient is (4, 2) (:func:`deformable.scenes.equivalent_weights`).
     lags_alpha : bool
-        The semi-implicit step lags its stretching coefficient, so that the step is stable only below the
-        stretching bound of the backend's ``stable_step()`` (docs/design.md, "Time stepping").
+        The semi-implicit step lags its stretching coefficient, so that the step is stable only below the stretching
+        bound of the backend's ``stable_step()`` (docs/design.md, "Time stepping").
     """
 
     summary: ClassVar[str] = ""
@@ -138,8 +127,8 @@ class ForceModel(Registered, family="force model"):
         return self.name
 
     def __eq__(self, other) -> bool:
-        """Equal to a model of the same class and parameters; a model without parameters also equals its
-        registered name, so that code which compared ``Scene.force_model`` with a name keeps working."""
+        """Equal to a model of the same class and parameters; a model without parameters also equals its registered
+        name."""
         if isinstance(other, str):
             return not vars(self) and other == self.name
         return type(self) is type(other) and vars(self) == vars(other)
@@ -169,8 +158,8 @@ class ForceModel(Registered, family="force model"):
         return getattr(material, self.weights[0])
 
     def stable_step(self, mu: np.ndarray, eta: np.ndarray, spacing, eigenvalue: float) -> float:
-        """The largest stable step of the semi-implicit scheme (s) for a backend whose stiffest membrane mode
-        is ``eigenvalue / h^2`` (FD 4, FE about 91): inf unless the model lags its stretching coefficient
+        """The largest stable step of the semi-implicit scheme (s) for a backend whose stiffest membrane mode is
+        ``eigenvalue / h^2`` (FD 4, FE about 91): inf unless the model lags its stretching coefficient
         (:class:`~deformable.physics.force_models.tpbf87.TPBF87` overrides it)."""
         return math.inf
 
@@ -192,8 +181,8 @@ class ForceModel(Registered, family="force model"):
     def density_field(self, material_at, G, G0, B, B0) -> tuple[np.ndarray, np.ndarray]:
         """Stretching and bending energy densities (J/m^2) at points, each (P,): eq. (13)'s integrand.
 
-        ``material_at(name)`` gives a Material tensor field at the points, (2, 2, P); G, G0, B, B0 are
-        (2, 2, P). A model whose energy is not eq. (13)'s overrides this (:class:`EnergyModel` does).
+        ``material_at(name)`` gives a Material tensor field at the points, (2, 2, P); G, G0, B, B0 are (2, 2, P). A
+        model whose energy is not eq. (13)'s overrides this (:class:`EnergyModel` does).
         """
         return energy_density(material_at("eta"), material_at("xi"), G, G0, B, B0)
 
@@ -209,9 +198,9 @@ class StrengthModel(ForceModel):
     def coefficients(self, material_at, G, G0, B, B0) -> tuple[np.ndarray, np.ndarray]:
         """alpha_ij (N/m) and beta_ij (N) at points, each (2, 2, *pts).
 
-        ``material_at(name)`` gives a Material tensor field at the points, (2, 2, *pts); G, B (the current
-        metric and curvature, eq. 18-19 on FD) and their rest values G0, B0 are (2, 2, *pts). B is None when
-        the model's bending weights are zero everywhere.
+        ``material_at(name)`` gives a Material tensor field at the points, (2, 2, *pts); G, B (the current metric
+        and curvature, eq. 18-19 on FD) and their rest values G0, B0 are (2, 2, *pts). B is None when the model's
+        bending weights are zero everywhere.
         """
         raise NotImplementedError
 
@@ -219,26 +208,25 @@ class StrengthModel(ForceModel):
 class EnergyModel(ForceModel):
     """A force model that is the exact gradient of an energy density W(s, b) (module docstring).
 
-    A subclass gives :meth:`density`, :meth:`gradient` and :meth:`hessian`, with residuals s (3, P) and b
-    (3, P) in the order of :data:`RESIDUALS` and material fields at the points. Attributes below; the
-    backends do the rest.
+    A subclass gives :meth:`density`, :meth:`gradient` and :meth:`hessian`, with residuals s (3, P) and b (3, P) in
+    the order of :data:`RESIDUALS` and material fields at the points. Attributes below; the backends do the rest.
 
     Class attributes
     ----------------
     fields : tuple of str
         The Material tensor fields it reads, each given at the points as (2, 2, P) in ``params``.
     couples : tuple of tuples of residual names
-        The groups of residuals the density couples: W is the sum of one function of each group's residuals
-        (a residual in no group stands alone). Default: all six in one group. Eq. (13) couples none
-        (six groups of one), a membrane energy of the metric alone couples (s11, s22, s12).
+        The groups of residuals the density couples: W is the sum of one function of each group's residuals (a
+        residual in no group stands alone). Default: all six in one group. Eq. (13) couples none (six groups of
+        one), a membrane energy of the metric alone couples (s11, s22, s12).
     compiled : bool
         The backends take the compiled fast path of eq. (13) (:class:`deformable.physics.integrand.Integrand`)
-        instead of calling the methods; only :class:`Variational` itself sets it (a subclass that changes the
-        density is called, not compiled).
+        instead of calling the methods; only :class:`.variational.Variational` itself sets it (a subclass that
+        changes the density is called, not compiled).
     rest : bool
-        The density reads the rest metric: ``params["G0"]`` (2, 2, P), at the points where the residuals are
-        (a shell energy measures strains in it, :class:`~deformable.physics.force_models.koiter.Koiter`); FD
-        gives its nodes' points the node-centred rest metric (:mod:`fdmodel.model`).
+        The density reads the rest metric: ``params["G0"]`` (2, 2, P), at the points where the residuals are (a
+        shell energy measures strains in it, :class:`~deformable.physics.force_models.koiter.Koiter`); FD gives its
+        nodes' points the node-centred rest metric (:mod:`fdmodel.model`).
 
     The density must vanish in the rest state (W(0, 0) = 0): the rest shape carries no energy.
     """
@@ -285,15 +273,15 @@ class EnergyModel(ForceModel):
         raise NotImplementedError
 
     def prepare(self, params: dict) -> dict:
-        """``params`` with what the density derives from them once, at points that do not change (the backends
-        call it when they build their integrands, and the output's density field); sliced along the points like
-        the fields, each added entry (a, b, P). None by default: a shell energy's metric tensors
+        """``params`` with what the density derives from them once, at points that do not change (the backends call
+        it when they build their integrands, and the output's density field); sliced along the points like the
+        fields, each added entry (a, b, P). None by default: a shell energy's metric tensors
         (:class:`~deformable.physics.force_models.koiter.Koiter`)."""
         return params
 
     def bends(self, params: dict) -> bool:
-        """Whether W depends on b at these parameters; False lets a backend skip the normal (a sheet with
-        degenerate tangents can still be stretched). True by default; eq. (13): some xi is not zero."""
+        """Whether W depends on b at these parameters; False lets a backend skip the normal (a sheet with degenerate
+        tangents can still be stretched). True by default; eq. (13): some xi is not zero."""
         return True
 
     def density_field(self, material_at, G, G0, B, B0):

@@ -1,13 +1,10 @@
 r"""The frozen model of section 3.2: alpha_ij and beta_ij given directly, the controlled-continuity spline.
 
-The paper's alternative to eq. (15) (after Terzopoulos): set the weights of
-the force (14) as material parameters instead of computing them from eta,
-xi and the current tensors. K of eq. (20) is then constant, the force is
-linear, ``e = K R``, and the gradient of the quadratic energy ``R^T K R / 2``
-(:class:`QuadraticEnergy`), so both the semi-implicit scheme and the
-implicit ones apply. The paper warns that positive alpha, beta "always
-induce a residual initial elastic energy": the rest shape is not a rest
-state of this model.
+The paper's alternative to eq. (15) (after Terzopoulos): set the weights of the force (14) as material parameters
+instead of computing them from eta, xi and the current tensors. K of eq. (20) is then constant, the force is linear,
+``e = K R``, and the gradient of the quadratic energy ``R^T K R / 2`` (:class:`QuadraticEnergy`), so both the
+semi-implicit scheme and the implicit ones apply. The paper warns that positive alpha, beta "always induce a
+residual initial elastic energy": the rest shape is not a rest state of this model.
 """
 
 from __future__ import annotations

@@ -8,22 +8,18 @@ Differential Geometry with Applications to Elasticity*, chapter 4),
     H(t, t) = nu tr(A t)^2 + (1 - nu) tr(A t A t),      A = G0^-1 (raises indices),
     C_m = E h / (1 - nu^2),   C_b = E h^3 / (12 (1 - nu^2)),
 
-per unit parameter area (the area element sqrt(det G0) da1 da2). H is the
-plane-stress elasticity tensor ``nu A^ab A^cd + (1 - nu) (A^ac A^bd + A^ad A^bc) / 2``
-contracted twice; in the residuals of :mod:`.base` it is a quadratic form
-``t^T K t`` of t = (t11, t22, t12) with a 3 x 3 matrix K of each point's A
-(:func:`form`), so the gradient and the Hessian below are exact.
+per unit parameter area (the area element sqrt(det G0) da1 da2). H is the plane-stress elasticity tensor ``nu A^ab
+A^cd + (1 - nu) (A^ac A^bd + A^ad A^bc) / 2`` contracted twice; in the residuals of :mod:`.base` it is a quadratic
+form ``t^T K t`` of t = (t11, t22, t12) with a 3 x 3 matrix K of each point's A (:func:`form`), so the gradient and
+the Hessian below are exact.
 
-At nu = 0 on a flat rest state (G0 = I) K = diag(1, 1, 2) and W is eq. (13)
-with the weights ``eta_ij = E h / 8`` and ``xi_ij = E h^3 / 24`` for every
-i, j (:func:`weights`); on an orthogonal parameterisation (G0_12 = 0) it is eq.
-(13) with weights that vary as the metric does (an annulus in polar
-coordinates: eta_11 = E h r / 8, eta_22 = E h / (8 r^3), eta_12 = E h / (8 r)).
-Then no residual is coupled to another and finite differences place each
-term where eq. (13)'s stands (second order); for nu > 0 the membrane terms
-are coupled (evaluated at FD's cell centres) and so are the bending terms (at
-its nodes), :mod:`fdmodel.energy`. A flat plate's bending stiffness is
-``D = C_b = E h^3 / (12 (1 - nu^2))``.
+At nu = 0 on a flat rest state (G0 = I) K = diag(1, 1, 2) and W is eq. (13) with the weights ``eta_ij = E h / 8``
+and ``xi_ij = E h^3 / 24`` for every i, j (:func:`weights`); on an orthogonal parameterisation (G0_12 = 0) it is eq.
+(13) with weights that vary as the metric does (an annulus in polar coordinates: eta_11 = E h r / 8, eta_22 = E h /
+(8 r^3), eta_12 = E h / (8 r)). Then no residual is coupled to another and finite differences place each term where
+eq. (13)'s stands (second order); for nu > 0 the membrane terms are coupled (evaluated at FD's cell centres) and so
+are the bending terms (at its nodes), :mod:`fdmodel.energy`. A flat plate's bending stiffness is ``D = C_b = E h^3 /
+(12 (1 - nu^2))``.
 """
 
 from __future__ import annotations
@@ -42,8 +38,8 @@ _UNITS = np.array([[[1.0, 0.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 1.0]], [[0.0, 1.
 
 
 def form(G0: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """The matrix K (3, 3, P) of ``H(t, t) = t^T K t`` (module docstring) and sqrt(det G0) (P,) at rest metrics
-    G0 (2, 2, P); both 0 where G0 is degenerate (points a backend carries with zero weight)."""
+    """The matrix K (3, 3, P) of ``H(t, t) = t^T K t`` (module docstring) and sqrt(det G0) (P,) at rest metrics G0
+    (2, 2, P); both 0 where G0 is degenerate (points a backend carries with zero weight)."""
     det = G0[0, 0] * G0[1, 1] - G0[0, 1] * G0[1, 0]
     inv = np.divide(1.0, det, out=np.zeros_like(det), where=det > 0)  # 0 at points without a rest metric (FD's
     A = np.stack([np.stack([G0[1, 1], -G0[0, 1]]), np.stack([-G0[1, 0], G0[0, 0]])]) * inv  # unweighted ones)
@@ -54,8 +50,8 @@ def form(G0: np.ndarray, nu: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def weights(E: float, nu: float, h: float) -> tuple[float, float]:
-    """The eta and xi of eq. (13) that Koiter's energy equals at nu = 0 on a flat rest state (every component):
-    (E h / 8, E h^3 / 24); nu must be 0."""
+    """The eta and xi of eq. (13) that Koiter's energy equals at nu = 0 on a flat rest state (every component): (E h
+    / 8, E h^3 / 24); nu must be 0."""
     if nu != 0:
         raise InputError(f"eq. (13) has no Poisson coupling: Koiter's energy reduces to it at nu = 0 only, got "
                          f"nu = {nu!r}", field="nu", value=nu)
@@ -65,8 +61,7 @@ def weights(E: float, nu: float, h: float) -> tuple[float, float]:
 class ShellEnergy(EnergyModel):
     """A shell energy quadratic in the strains at each point, ``W = cs s^T K s + cb b^T K b`` with a 3 x 3 form K
     (3, 3, P) of the residuals (t11, t22, t12) and per-point factors cs, cb (P,) from :meth:`_form`: Koiter's
-    isotropic shell and the orthotropic one (:mod:`.orthotropic`) share the density and its exact
-    derivatives."""
+    isotropic shell and the orthotropic one (:mod:`.orthotropic`) share the density and its exact derivatives."""
 
     fields = ()
     rest = True
@@ -123,8 +118,8 @@ class Koiter(ShellEnergy):
 
     @property
     def couples(self):
-        """At nu = 0 no residual is coupled (on an orthogonal rest parameterisation, checked in
-        :meth:`prepare`); else the metric's three and the curvature's three."""
+        """At nu = 0 no residual is coupled (on an orthogonal rest parameterisation, checked in :meth:`prepare`);
+        else the metric's three and the curvature's three."""
         return () if self.nu == 0 else (RESIDUALS[:3], RESIDUALS[3:])
 
     @property

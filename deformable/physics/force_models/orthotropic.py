@@ -1,25 +1,25 @@
 r"""An orthotropic shell: a fabric's warp and weft (Koiter's energy with an orthotropic plane-stress law).
 
-The material axes run along the parameter lines: warp along a1, weft along a2, on a rest parameterisation
-whose lines meet at right angles (G0_12 = 0, checked). The strains and curvature changes of Koiter's shell
+The material axes run along the parameter lines: warp along a1, weft along a2, on a rest parameterisation whose
+lines meet at right angles (G0_12 = 0, checked). The strains and curvature changes of Koiter's shell
 (:mod:`.koiter`), eps = s / 2 and kappa = b, in the orthonormal frame of the rest tangents, in Voigt form
 
     e = S t,   S = diag(1 / G0_11, 1 / G0_22, 2 / sqrt(G0_11 G0_22)),   t = (t11, t22, t12),
 
-enter the plane-stress orthotropic law (Lekhnitskii 1968, *Anisotropic Plates*; Jones 1999, *Mechanics of
-Composite Materials*, section 2.6)
+enter the plane-stress orthotropic law (Lekhnitskii 1968, *Anisotropic Plates*; Jones 1999, *Mechanics of Composite
+Materials*, section 2.6)
 
     Q = [[Q11, Q12, 0], [Q12, Q22, 0], [0, 0, G12]],  Q11 = E1 / (1 - nu12 nu21),  Q22 = E2 / (1 - nu12 nu21),
     Q12 = nu12 E2 / (1 - nu12 nu21),                  nu21 = nu12 E2 / E1,
 
     W = sqrt(det G0) [ h / 2  (S s / 2)^T Q (S s / 2) + h^3 / 24  (S b)^T Q (S b) ]
 
-per unit parameter area, i.e. :class:`.koiter.ShellEnergy`'s ``cs s^T K s + cb b^T K b`` with K = S^T Q S,
-cs = sqrt(det G0) h / 8 and cb = sqrt(det G0) h^3 / 24. With E1 = E2 = E, nu12 = nu and G12 = E / (2 (1 + nu))
-it is Koiter's isotropic energy (tested to round-off). Q is positive definite when E1, E2, G12 > 0 and
-nu12^2 E2 / E1 < 1 (checked). The bending law is the membrane's scaled by h^2 / 12 (a homogeneous sheet); a
-woven fabric's bending rigidity, measured on its own (the Peirce test), may differ: give ``h`` as the
-thickness that matches it, or a separate bending law as another member of this family.
+per unit parameter area, i.e. :class:`.koiter.ShellEnergy`'s ``cs s^T K s + cb b^T K b`` with K = S^T Q S, cs =
+sqrt(det G0) h / 8 and cb = sqrt(det G0) h^3 / 24. With E1 = E2 = E, nu12 = nu and G12 = E / (2 (1 + nu)) it is
+Koiter's isotropic energy (tested to round-off). Q is positive definite when E1, E2, G12 > 0 and nu12^2 E2 / E1 < 1
+(checked). The bending law is the membrane's scaled by h^2 / 12 (a homogeneous sheet); a woven fabric's bending
+rigidity, measured on its own (the Peirce test), may differ: give ``h`` as the thickness that matches it, or a
+separate bending law as another member of this family.
 """
 
 from __future__ import annotations
@@ -77,8 +77,8 @@ class Orthotropic(ShellEnergy):
     @property
     def couples(self):
         """nu12 couples the two stretches and the two bendings (the shear stands alone, G0_12 = 0); grouped as
-        Koiter's (the metric's three, the curvature's three), so that FD places the terms alike and the
-        isotropic law gives Koiter's discrete energy on both backends."""
+        Koiter's (the metric's three, the curvature's three), so that FD places the terms alike and the isotropic
+        law gives Koiter's discrete energy on both backends."""
         return () if self.nu12 == 0 else (RESIDUALS[:3], RESIDUALS[3:])
 
     @property

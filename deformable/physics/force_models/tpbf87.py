@@ -4,18 +4,14 @@ With the weights of eq. (15),
 
     alpha_ij = eta_ij (G_ij - G0_ij),   beta_ij = xi_ij (B_ij - B0_ij),
 
-frozen at the current r, the force is ``K(r) R`` with the strength matrix of
-eq. (20), and the paper's semi-implicit step (eq. 22-27) solves one linear
-system a step. It is *not* the gradient of the energy (13): about a flat
-sheet with B0 = 0 it has no linear bending stiffness (the bending force
-enters at O(eps^2)), and in compression alpha < 0 makes K indefinite
-(docs/design.md, "Findings").
+frozen at the current r, the force is ``K(r) R`` with the strength matrix of eq. (20), and the paper's semi-implicit
+step (eq. 22-27) solves one linear system a step. It is *not* the gradient of the energy (13): about a flat sheet
+with B0 = 0 it has no linear bending stiffness (the bending force enters at O(eps^2)), and in compression alpha < 0
+makes K indefinite (docs/design.md, "Findings").
 
-The step lags alpha, so it is stable only below a stretching bound
-(docs/design.md, "Time stepping"): with lambda_m the largest eigenvalue of
-the membrane operator per unit alpha against the mass (FD ``4/h^2``, bicubic
-Hermite FE about ``91/h^2``), ``dt < sqrt(2 mu / (eta G lambda_m))``
-(:func:`stretching_step`; FD: ``h sqrt(mu / (2 eta G))``).
+The step lags alpha, so it is stable only below a stretching bound (docs/design.md, "Time stepping"): with lambda_m
+the largest eigenvalue of the membrane operator per unit alpha against the mass (FD ``4/h^2``, bicubic Hermite FE
+about ``91/h^2``), ``dt < sqrt(2 mu / (eta G lambda_m))`` (:func:`stretching_step`; FD: ``h sqrt(mu / (2 eta G))``).
 
 Tensor fields are components first, points last: (2, 2, *pts).
 """
@@ -71,7 +67,7 @@ class TPBF87(StrengthModel):
 
     def stable_step(self, mu: np.ndarray, eta: np.ndarray, spacing, eigenvalue: float) -> float:
         """The stretching bound (s): the smallest mass density ``mu`` (any shape), the largest of eta_11, eta_22
-        (``eta``: (2, 2, ...)), the smaller spacing h and lambda_m = ``eigenvalue`` / h^2 (the backend's
-        stiffest membrane mode: FD 4, FE about 91)."""
+        (``eta``: (2, 2, ...)), the smaller spacing h and lambda_m = ``eigenvalue`` / h^2 (the backend's stiffest
+        membrane mode: FD 4, FE about 91)."""
         return stretching_step(float(np.min(mu)), float(max(np.max(eta[0, 0]), np.max(eta[1, 1]))),
                                eigenvalue / min(spacing) ** 2)

@@ -3,21 +3,16 @@ r"""The energy-consistent model: the exact gradient of the energy (13), the buil
     W(s, b) = sum_ij eta_ij (G_ij - G0_ij)^2 + xi_ij (B_ij - B0_ij)^2
             = eta_11 s11^2 + eta_22 s22^2 + (eta_12 + eta_21) s12^2 + xi_11 b11^2 + xi_22 b22^2 + (xi_12 + xi_21) b12^2
 
-in the residuals of :mod:`.base`. It couples no residuals (each term stands
-alone), so finite differences keep each term at the point where its
-stencil is centred (:mod:`fdmodel.energy`). The backends evaluate it with
-the compiled kernels of :mod:`deformable.physics.kernels` (the class's
-``compiled`` flag); the methods below are the same density in numpy, for
-the output's energy density and for checking the generic path against the
-compiled one.
+in the residuals of :mod:`.base`. It couples no residuals (each term stands alone), so finite differences keep each
+term at the point where its stencil is centred (:mod:`fdmodel.energy`). The backends evaluate it with the compiled
+kernels of :mod:`deformable.physics.kernels` (the class's ``compiled`` flag); the methods below are the same density
+in numpy, for the output's energy density and for checking the generic path against the compiled one.
 
-Linearised about a flat rest state with G0 = g0 I, B0 = 0, the transverse
-force is ``-4 eta (1 - g0) (w_11 + w_22) + 2 xi (w_1111 + w_2222)``: four
-times the paper's force (14) in stretching, twice in bending
-(:attr:`Variational.stiffness`, docs/design.md). With full weight tensors
-(eta_12 = eta, xi_12 = xi) it is the St Venant-Kirchhoff plate with
-E h = 8 eta and D = 2 xi (Poisson ratio 0); with eta_12 = 0 or xi_12 = 0,
-shear or twist costs nothing (:meth:`Variational.free_modes`).
+Linearised about a flat rest state with G0 = g0 I, B0 = 0, the transverse force is ``-4 eta (1 - g0) (w_11 + w_22) +
+2 xi (w_1111 + w_2222)``: four times the paper's force (14) in stretching, twice in bending
+(:attr:`Variational.stiffness`, docs/design.md). With full weight tensors (eta_12 = eta, xi_12 = xi) it is the St
+Venant-Kirchhoff plate with E h = 8 eta and D = 2 xi (Poisson ratio 0); with eta_12 = 0 or xi_12 = 0, shear or twist
+costs nothing (:meth:`Variational.free_modes`).
 """
 
 from __future__ import annotations
