@@ -25,7 +25,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import deformable as dm
-from fdmodel import FDModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (21, 11) if os.environ.get("EXAMPLES_FINE") == "1" else (11, 7)
@@ -41,10 +40,10 @@ scene = dm.Scene(
     constraints=[dm.Pin(["left", "right"])],                   # the edges a1 = 0 and a1 = L1 are held
     force_model="variational", name="hammock")
 
-model = FDModel(scene)
-# The variational model steps by implicit Euler (Newton's method each step): stable at any dt.
-stepper = dm.TimeStepper(model, dt=0.05)
-result = stepper.run(model.initial_state(), t_end=3.0)
+# The run on FD (an FDModel of the scene, sim.model); the variational model steps by implicit Euler (Newton's
+# method each step): stable at any dt.
+sim = dm.Simulation(scene, backend="fd", dt=0.05)
+model, result = sim.model, sim.run(t_end=3.0)
 
 r = model.grid(result.state.X)  # (M, N, 3) node positions
 centre = r[NODES[0] // 2, NODES[1] // 2]  # the loaded node (odd node counts put one at the centre)

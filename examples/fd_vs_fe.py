@@ -1,8 +1,8 @@
 """The same scene on both backends, side by side: finite differences (fdmodel) and finite elements (femodel)
 =========================================================================================================
 
-``FDModel(scene)`` discretises eq. (11) by the paper's differences (section
-2.3, eq. 16-20); ``FEModel(scene)`` by bicubic Hermite elements on the same
+``deformable.Simulation(scene, backend="fd")`` discretises eq. (11) by the paper's differences (section
+2.3, eq. 16-20; ``FDModel(scene)``); ``backend="fe"`` by bicubic Hermite elements on the same
 node grid, so FD nodes and FE vertices coincide and ``model.grid(X)`` gives
 the node positions of either. The scene is the library's ``hanging`` cloth
 (pinned at its two top corners, falling from horizontal), on the
@@ -27,8 +27,6 @@ import numpy as np
 
 import deformable as dm
 from deformable import scenes
-from fdmodel import FDModel
-from femodel import FEModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (17, 17) if os.environ.get("EXAMPLES_FINE") == "1" else (9, 9)
@@ -36,13 +34,13 @@ T_END = 0.4  # s
 
 scene = scenes.hanging(nodes=NODES)  # a Scene; scenes.config("hanging") shows its fields
 final, history = {}, {}
-for name, Backend in (("FD", FDModel), ("FE", FEModel)):
-    model = Backend(scene)
+for name in ("FD", "FE"):
+    sim = dm.Simulation(scene, backend=name.lower(), dt=scenes.SCENES["hanging"].dt)  # the scene on a backend by name
+    model = sim.model  # an FDModel(scene), an FEModel(scene)
     trace = history[name] = []  # (t, height of the free corner at a1 = L1, a2 = 0) every step
     watch = dm.Callback(lambda state, model=model, trace=trace: trace.append((state.t, model.grid(state.X)[-1, 0, 2])))
     start = time.perf_counter()
-    result = dm.TimeStepper(model, dt=scenes.SCENES["hanging"].dt).run(model.initial_state(), t_end=T_END,
-                                                                       trackers=[watch])
+    result = sim.run(t_end=T_END, trackers=[watch])
     wall = time.perf_counter() - start
     final[name] = model.grid(result.state.X)
     print(f"{name}: {model.ndof} degrees of freedom per coordinate, {result.status} ({result.message}) "

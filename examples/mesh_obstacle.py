@@ -27,7 +27,6 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 import deformable as dm
 from deformable.geometry.surfaces import Plane
-from fdmodel import FDModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (25, 25) if os.environ.get("EXAMPLES_FINE") == "1" else (13, 13)
@@ -57,12 +56,11 @@ sheet = dm.Sheet(size=(0.7, 0.7), nodes=NODES, initial=Plane(origin=(0.0, 0.0, 0
 material = dm.Material(mu=0.2, gamma=0.5, eta=np.full((2, 2), 20.0), xi=np.full((2, 2), 1e-4))
 scene = dm.Scene(sheet, material, forces=[dm.Gravity()], force_model="variational", obstacles=[stool],
                  contact=dm.Contact(distance=1e-3, friction=0.3), name="stool")
-model = FDModel(scene)
+sim = dm.Simulation(scene, backend="fd", dt=5e-3)  # implicit Euler: Newton's method each step, the barrier in it
+model = sim.model
 
 clearances = []
-stepper = dm.TimeStepper(model, dt=5e-3)  # implicit Euler: Newton's method each step, the barrier in it
-result = stepper.run(model.initial_state(), t_end=0.6,
-                     trackers=[dm.Callback(lambda s: clearances.append(dm.clearance(model, s.X, t=s.t)))])
+result = sim.run(t_end=0.6, trackers=[dm.Callback(lambda s: clearances.append(dm.clearance(model, s.X, t=s.t)))])
 r = model.grid(result.state.X)
 print(f"mesh obstacle: {result.status} after {result.steps} steps; {len(stool.triangles)} triangles read from "
       f"{(OUT / 'stool.obj').name}; smallest clearance {min(clearances):.3g} m over every step; the cloth's corners "

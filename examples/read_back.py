@@ -30,16 +30,16 @@ import numpy as np
 import deformable as dm
 from deformable import scenes
 from deformable.io import XDMFWriter
-from fdmodel import FDModel
 
 OUT = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get("EXAMPLES_OUT") or Path(__file__).with_name("out"))
 NODES = (24, 24) if os.environ.get("EXAMPLES_FINE") == "1" else (12, 12)
 
 # 1. the run: the hanging cloth for 1 s, a frame every 10 steps (0.05 s)
-model = FDModel(scenes.hanging(nodes=NODES))
+sim = dm.Simulation(scenes.hanging(nodes=NODES), backend="fd", dt=5e-3)
+model = sim.model
 series = OUT / "read_back" / "hanging.xdmf"
 series.parent.mkdir(parents=True, exist_ok=True)  # XDMFWriter does not create its folder
-result = dm.TimeStepper(model, dt=5e-3).run(model.initial_state(), t_end=1.0, trackers=[XDMFWriter(series, every=10)])
+result = sim.run(t_end=1.0, trackers=[XDMFWriter(series, every=10)])
 print(f"run: {result.status} ({result.message}); series {series}")
 
 # 2. meshio: the frames one by one; the free corner's height over time

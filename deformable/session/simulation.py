@@ -48,6 +48,7 @@ from ..errors import InputError
 from ..io import CheckpointWriter, XDMFWriter, frame_time, load_checkpoint, save_checkpoint
 from ..io.folder import RunFolder, write_text
 from ..io.series import continuation
+from ..scene.scene import Scene
 from ..limits import check_series
 from .resume import abandon, fits, owns
 
@@ -71,7 +72,9 @@ class Simulation:
 
     Parameters
     ----------
-    config : SceneConfig, or a scene name or a TOML scene file (``*.toml``)
+    config : SceneConfig, a scene name or a TOML scene file (``*.toml``); or a :class:`deformable.Scene` built by
+        hand, which runs as it is (its grid; ``dt`` required, s or "auto"; no output folder, no resume: a Scene
+        has no file form: give ``trackers``, e.g. a :class:`deformable.XDMFWriter`, to :meth:`run`)
     backend : str or None
         A registered backend's name (FD's and FE's, or an installed one's); None: the first
         (:meth:`Discretisation.names`, the paper's finite differences).
@@ -91,7 +94,8 @@ class Simulation:
 
     Attributes
     ----------
-    config : the scene config with the grid and step the run takes
+    config : the scene config with the grid and step the run takes (None for a Scene built by hand)
+    dt : the step (s) the run takes (or "auto")
     scene, model : the :class:`deformable.Scene` and the backend's model of it
     backend : str; ``descriptor`` its :class:`~deformable.backends.Discretisation`
     X0 : (ndof, 3) the constraints' reference positions (m): the initial state, or a checkpoint's
@@ -105,18 +109,24 @@ class Simulation:
                  stepping: dict | None = None, overwrite: bool = False, **options):
         if isinstance(config, (str, Path)):
             config = scenes.read_toml(config) if str(config).endswith(".toml") else scenes.config(str(config))
-        if not isinstance(config, scenes.SceneConfig):
-            raise InputError(f"Simulation needs a scene config or a scene's name, got {config!r}", field="config",
-                             value=config)
         backend = Discretisation.names()[0] if backend is None else backend
         self.descriptor = Discretisation.lookup(backend)
         self.backend, self.asked = backend, config
-        config = config.replace(nodes=tuple(int(n) for n in nodes) if nodes is not None
-                                else self.descriptor.scene_nodes(config.nodes))
-        self.scene = scenes.build(config)
-        self.model = self.descriptor.build(self.scene, **options)
-        step = dt if dt is not None else within_stable(self.model, config.dt)
-        self.config = config if step == config.dt else config.replace(dt=step)
+        if isinstance(config, Scene):
+            self._by_hand(config, nodes, dt, out)
+            self.scene, self.config, self.dt = config, None, dt
+            self.model = self.descriptor.build(self.scene, **options)
+        elif isinstance(config, scenes.SceneConfig):
+            config = config.replace(nodes=tuple(int(n) for n in nodes) if nodes is not None
+                                    else self.descriptor.scene_nodes(config.nodes))
+            self.scene = scenes.build(config)
+            self.model = self.descriptor.build(self.scene, **options)
+            step = dt if dt is not None else within_stable(self.model, config.dt)
+            self.config = config if step == config.dt else config.replace(dt=step)
+            self.dt = self.config.dt
+        else:
+            raise InputError(f"Simulation needs a scene config, a scene's name or a Scene, got {config!r}",
+                             field="config", value=config)
         self.out = None if out is None else Path(out)
         self.overwrite, self.scheme, self.stepping = overwrite, scheme, dict(stepping or {})
         self.X0, self.start, self.checkpoint = self.model.initial_state(), None, None
@@ -124,15 +134,29 @@ class Simulation:
         self.checkpoints, self.clearances = [], []
         self._stepper = self._plan = None
 
+    @staticmethod
+    def _by_hand(scene, nodes, dt, out) -> None:
+        """InputError for what a Scene built by hand cannot take: a grid (it has its own), no step, a folder."""
+        if nodes is not None:
+            raise InputError("nodes: a Scene runs on its own grid (Sheet(nodes=...))", field="nodes", value=nodes)
+        if dt is None:
+            raise InputError("dt: a Scene built by hand has no step of its own; give dt (s, or 'auto')", field="dt",
+                             value=dt)
+        if out is not None:
+            raise InputError("out: a run written to a folder needs a scene config (its resolved file); a Scene "
+                             "built by hand has none: give run() a tracker, e.g. deformable.XDMFWriter", field="out",
+                             value=out)
+
     def __repr__(self) -> str:
-        M, N = self.config.nodes
-        return f"Simulation({self.config.scene!r}, backend={self.backend!r}, nodes={M}x{N}, dt={self.config.dt:g})"
+        M, N = self.scene.sheet.nodes
+        name = self.config.scene if self.config is not None else self.scene.name or "a scene"
+        return f"Simulation({name!r}, backend={self.backend!r}, nodes={M}x{N}, dt={self.stepper.dt:g})"
 
     @property
     def stepper(self) -> TimeStepper:
         """The run's :class:`deformable.TimeStepper` (built on first use)."""
         if self._stepper is None:
-            self._stepper = TimeStepper(self.model, self.config.dt, scheme=self.scheme, **self.stepping)
+            self._stepper = TimeStepper(self.model, self.dt, scheme=self.scheme, **self.stepping)
         return self._stepper
 
     # -- resume ---------------------------------------------------------------------
@@ -140,6 +164,9 @@ class Simulation:
         """Continue from the checkpoint file ``path`` (``checkpoint``: its contents, where already loaded): bit
         for bit the uninterrupted run, the controller's adapted step included. InputError naming the first field
         in which the checkpoint's run differs from this one. Returns self."""
+        if self.config is None:
+            raise InputError("resume: a Scene built by hand has no file form to check a checkpoint against; resume "
+                             "a run of a scene config, or give TimeStepper.run its state", field="resume", value=path)
         ck = checkpoint if checkpoint is not None else load_checkpoint(path, t0=0.0)
         fits(path, ck, self.config, self.backend, self.stepper)
         if ck["memory"] is not None:  # the adapted step and the rest of the controller's memory
@@ -172,17 +199,25 @@ class Simulation:
                 require_clear(self.model, self.X0 if self.start is None else self.start.X, "the start", t_now)
             except ValueError as err:
                 raise InputError(str(err)) from None
+        config = self.config
         if steps is not None:
             if steps <= step_now:
                 raise InputError(f"the run already stands at step {step_now} (t = {t_now:.6g} s); nothing to do "
                                  f"until step {steps}", field="--steps", value=steps)
-            config, left, end = self.config.replace(t_end=frame_time(steps * self.config.dt)), steps - step_now, None
+            left, end = steps - step_now, None
+            if config is not None:
+                config = config.replace(t_end=frame_time(steps * config.dt))
         else:
-            end = t_end if t_end is not None else self.config.t_end
+            if t_end is None and config is None:
+                raise InputError("t_end: a Scene built by hand has no end time of its own; give t_end or steps",
+                                 field="t_end", value=None)
+            end = t_end if t_end is not None else config.t_end
             if not end > t_now * (1 + 1e-12):
                 raise InputError(f"the run already stands at t = {t_now:.6g} s (step {step_now}); nothing to do "
                                  f"until t = {end:.6g} s", field="--t-end", value=end)
-            config, left = self.config.replace(t_end=end), None
+            left = None
+            if config is not None:
+                config = config.replace(t_end=end)
         self.stepper.length(t_now, steps=left, t_end=end)  # a bad length or one beyond the cap, before any work
         every = every if every is not None or self.out is None else DEFAULT_EVERY
         if checkpoint_every or self.start is not None:
@@ -227,8 +262,9 @@ class Simulation:
         own; ``progress`` True (or a name to start its lines with) prints progress."""
         if length or self._plan is None:
             self.prepare(**length)
-        plan, cfg = self._plan, self.config
-        progress = cfg.scene if progress is True else progress
+        plan = self._plan
+        if progress is True:
+            progress = self.config.scene if self.config is not None else self.scene.name
         if self.out is None:
             self.result = self.stepper.run(self.X0, steps=plan["steps"], t_end=plan["t_end"], trackers=list(trackers),
                                            progress=progress, resume=self.start)

@@ -67,3 +67,27 @@ def test_what_cannot_run_is_refused_before_anything_is_written(tmp_path):
         done = Simulation(scenes.config("hanging", nodes=(8, 8)), "fd", out=tmp_path / "a")
         done.run(steps=2, checkpoint_every=2)
         Simulation(scenes.config("hanging", nodes=(8, 8), eta=3.0), "fd").resume(done.checkpoints[0])
+
+
+def _hammock():
+    return dm.Scene(dm.Sheet(size=(1.0, 1.0), nodes=(6, 6)), dm.Material(mu=0.1, eta=50.0, xi=1e-3, gamma=0.05),
+                    forces=[dm.Gravity()], constraints=[dm.Pin(["top-left", "top-right"])], force_model="variational")
+
+
+def test_a_scene_built_by_hand_runs_as_the_stepper_runs_it():
+    scene = _hammock()
+    sim = Simulation(scene, "fe", dt=0.01)
+    result = sim.run(t_end=0.05)
+    model = sim.descriptor.build(scene)
+    alone = dm.TimeStepper(model, 0.01).run(model.initial_state(), t_end=0.05)
+    assert sim.config is None and np.array_equal(result.state.X, alone.state.X)
+
+
+@pytest.mark.parametrize("kwargs, field", [(dict(), "dt"), (dict(dt=0.01, nodes=(4, 4)), "nodes"),
+                                           (dict(dt=0.01, out="x"), "out")])
+def test_a_scene_built_by_hand_refuses_what_it_cannot_take(kwargs, field):
+    with pytest.raises(dm.InputError) as err:
+        Simulation(_hammock(), "fd", **kwargs)
+    assert err.value.field == field
+    with pytest.raises(dm.InputError, match="t_end"):
+        Simulation(_hammock(), "fd", dt=0.01).run()
