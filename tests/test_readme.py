@@ -28,7 +28,7 @@ def test_readme_library_examples_run_as_printed_on_both_backends(capsys, tmp_pat
     assert namespace["s"].G.shape == (2, 2, 2) and namespace["s"].r.shape == (2, 3)
     exec(compile(simulation, "README.md (Simulation)", "exec"), namespace)
     out = capsys.readouterr().out
-    assert "Simulation('hanging', backend='fe', nodes=17x17" in out and "steps to t = 0.5 s" in out
+    assert "Simulation('hanging', backend='fe', nodes=17x17" in out and "steps to t = 0.1 s" in out
     assert (tmp_path / "runs" / "hanging-fe" / "hanging.toml").is_file()
 
 
