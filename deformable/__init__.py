@@ -93,12 +93,9 @@ from .session import Simulation
 from .solve.continuation import equilibrium_path
 from .solve.equilibrium import equilibrium
 
-try:  # the installed distribution's version: pyproject.toml is its one source
-    from importlib.metadata import PackageNotFoundError, version as _version
+from .checks import installed_version as _installed_version
 
-    __version__ = _version("deformable")
-except PackageNotFoundError:  # a source tree on sys.path, not installed
-    __version__ = "0+unknown"
+__version__ = _installed_version()  # the installed distribution's (deformable-sheets): pyproject.toml is its source
 
 __all__ = ["IncompatibleRestState", "check_compatibility", "check_rest_state", "Backend", "EnergyBackend", "Energy",
     "Sample", "ConvergenceError", "equilibrium", "equilibrium_path", "Clamp", "Pin", "Slide", "Symmetry", "select", "BodyForce", "EdgeLoad", "EdgeMoment", "Pressure", "Gravity",

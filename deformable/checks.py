@@ -11,13 +11,28 @@ from __future__ import annotations
 
 import importlib
 import math
+from importlib import metadata
 import numbers
 
 import numpy as np
 
 from .errors import InputError
 
-__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "extra"]
+__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "extra", "DISTRIBUTION",
+           "installed_version"]
+
+#: the project's name on the package registry (``pip install deformable-sheets``); the import names stay
+#: deformable, fdmodel, femodel and validation (the registry's own "deformable" is another project)
+DISTRIBUTION = "deformable-sheets"
+
+
+def installed_version() -> str:
+    """The installed distribution's version (pyproject.toml is its one source); "0+unknown" for a source tree on
+    sys.path that is not installed."""
+    try:
+        return metadata.version(DISTRIBUTION)
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
 
 
 def real(field: str, value, *, positive: bool = False, non_negative: bool = False, low: float | None = None,
@@ -123,5 +138,5 @@ def extra(module: str, name: str, needed_by: str):
         return importlib.import_module(module)
     except ImportError:
         raise InputError(f"{needed_by} needs {module}, which the core install leaves out: pip install "
-                         f"\"deformable[{name}]\" (or \".[{name}]\" in the project folder)", field=needed_by,
+                         f"\"{DISTRIBUTION}[{name}]\" (or \".[{name}]\" in the project folder)", field=needed_by,
                          value=module) from None

@@ -34,13 +34,13 @@ from __future__ import annotations
 import logging
 import math
 import shutil
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import ipctk
 
 from .. import scenes
 from ..backends.registry import Discretisation
+from ..checks import installed_version
 from ..contact.clearance import clearance, require_clear
 from ..dynamics import Callback, EnergyMonitor, State, TimeStepper
 from ..dynamics.dt import within_stable
@@ -58,13 +58,6 @@ log = logging.getLogger(__name__)
 
 #: the frame interval (s of simulated time) of a run with an output folder, by default
 DEFAULT_EVERY = 0.02
-
-
-def _version() -> str:
-    try:
-        return version("deformable")
-    except PackageNotFoundError:  # a source tree on sys.path, not installed
-        return "0+unknown"
 
 
 class Simulation:
@@ -228,7 +221,7 @@ class Simulation:
         self.config = config
         self._plan = dict(steps=left, t_end=end, every=every, checkpoint_every=checkpoint_every, compress=compress,
                           settings=dict(backend=self.backend, scheme=self.stepper.scheme, steps=steps, every=every,
-                                        version=_version()))
+                                        version=installed_version()))
         if self.out is not None:
             self._claim(t_now)
         return self

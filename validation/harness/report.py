@@ -49,7 +49,7 @@ from .study import Figure, StudyResult, Table
 __all__ = ["write_study", "write_index", "versions", "markdown_table", "csv_text", "plot"]
 
 log = logging.getLogger(__name__)
-PACKAGES = ("deformable", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
+PACKAGES = ("deformable-sheets", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
 
 
 def writable_folder(path) -> Path:

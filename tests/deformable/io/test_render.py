@@ -118,4 +118,4 @@ def test_rendering_without_pyvista_is_one_line_naming_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "pyvista", None)  # as on the core install
     with pytest.raises(InputError) as err:
         offscreen_pyvista()
-    assert "deformable[render]" in str(err.value) and "\n" not in str(err.value)
+    assert "deformable-sheets[render]" in str(err.value) and "\n" not in str(err.value)

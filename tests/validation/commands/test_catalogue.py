@@ -97,5 +97,5 @@ def test_render_without_its_extra_is_one_line_naming_it_and_writes_nothing(tmp_p
     code, _, err = _main(["run", "hanging", "--grid", "6x6", "--steps", "2", "--render", "--out", tmp_path / "out"],
                          capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1
-    assert "deformable[render]" in err and "--render" in err
+    assert "deformable-sheets[render]" in err and "--render" in err
     assert not (tmp_path / "out").exists()
