@@ -138,5 +138,5 @@ def extra(module: str, name: str, needed_by: str):
         return importlib.import_module(module)
     except ImportError:
         raise InputError(f"{needed_by} needs {module}, which the core install leaves out: pip install "
-                         f"\"{DISTRIBUTION}[{name}]\" (or \".[{name}]\" in the project folder)", field=needed_by,
+                         f"'{DISTRIBUTION}[{name}]' (or '.[{name}]' in the project folder)", field=needed_by,
                          value=module) from None

@@ -34,7 +34,7 @@ def test_a_missing_extra_is_one_line_naming_the_command_and_the_extra():
         extra("no_such_module_of_deformable", "render", "deformable run --render")
     message = str(err.value)
     assert "\n" not in message and message.startswith("deformable run --render needs no_such_module_of_deformable")
-    assert 'pip install "deformable-sheets[render]"' in message
+    assert "pip install 'deformable-sheets[render]'" in message
 
 
 def test_the_quick_validation_runs_without_vtk(tmp_path):
@@ -46,4 +46,4 @@ def test_the_quick_validation_runs_without_vtk(tmp_path):
 def test_the_viewer_without_vtk_says_how_to_install_it_in_one_line(tmp_path):
     done = without_vtk("view", "hanging", "--offscreen", "--frames", "1", cwd=tmp_path)
     assert done.returncode == 2 and done.stderr.strip().count("\n") == 0, done.stderr
-    assert 'pip install "deformable-sheets[render]"' in done.stderr and "deformable view" in done.stderr
+    assert "pip install 'deformable-sheets[render]'" in done.stderr and "deformable view" in done.stderr

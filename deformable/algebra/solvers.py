@@ -8,7 +8,7 @@ symbolic factorisation) and redo only the numerical factorisation when the value
   ``SymmetricMode``, diagonal pivots), much faster than SuperLU's default COLAMD on these matrices. SciPy's SuperLU
   keeps no symbolic analysis, so each factorisation orders again.
 - :class:`Pardiso` (Intel MKL PARDISO through the optional ``pypardiso`` package, ``pip install
-  "deformable-sheets[fast]"``): nested-dissection ordering and symbolic analysis once per pattern (phase 11), numerical
+  'deformable-sheets[fast]'``): nested-dissection ordering and symbolic analysis once per pattern (phase 11), numerical
   factorisation per matrix (phase 22), Cholesky when the matrix is known to be positive definite (matrix type 2),
   symmetric indefinite Bunch-Kaufman otherwise (type -2). The Cholesky's solves skip MKL's iterative refinement
   (``iparm[7] = 0``): a Cholesky perturbs no pivot, and Newton's next iteration corrects what a solve leaves; the
@@ -341,7 +341,7 @@ def make_solver(solver: str = "auto", definite: bool = False, single: bool = Fal
         return Auto(definite, single)
     if solver == "pardiso":
         if "pardiso" not in available():
-            raise InputError("solver 'pardiso' needs the pypardiso package: pip install \"deformable-sheets[fast]\"")
+            raise InputError("solver 'pardiso' needs the pypardiso package: pip install 'deformable-sheets[fast]'")
         return Pardiso(definite, single)
     return SuperLU(definite)
 

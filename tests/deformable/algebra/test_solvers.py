@@ -59,7 +59,7 @@ def test_auto_picks_pardiso_for_large_matrices_where_installed_and_names_are_che
     with pytest.raises(ValueError, match="solver must be one of"):
         make_solver("mumps")
     if "pardiso" not in linalg.available():
-        with pytest.raises(ValueError, match=r'pip install "deformable-sheets\[fast\]"'):
+        with pytest.raises(ValueError, match=r"pip install 'deformable-sheets\[fast\]'"):
             make_solver("pardiso")
 
 
