@@ -374,6 +374,8 @@ class Runner:
             self._client.close()
             self._client = None
         if self._cluster is not None:
+            if exc_type is KeyboardInterrupt:  # the workers it was running are killed: Dask's nannies say so at
+                logging.getLogger("distributed").setLevel(logging.ERROR)  # WARNING, which an interrupt does not need
             self._cluster.close()
             self._cluster = None
             _restore_environ(self._environ)  # a worker restarted since set them again
