@@ -32,10 +32,12 @@ Named fabrics measured by others (:mod:`deformable.physics.fabric_presets`: the 
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import real
 from ..errors import InputError
 from . import fabric_presets
 from .force_models import ForceModel
@@ -45,6 +47,11 @@ __all__ = ["Fabric", "G"]
 
 #: standard gravity (m/s^2), that of the bending-length test
 G = 9.80665
+
+
+def _number(value) -> bool:
+    """A real number, numpy's scalars included, not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def _pair(name: str, value) -> tuple[float, float]:
@@ -89,16 +96,19 @@ class Fabric:
     source: str = ""
 
     def __post_init__(self):
-        if not (isinstance(self.density, (int, float)) and math.isfinite(self.density) and self.density > 0):
+        if not (_number(self.density) and math.isfinite(self.density) and self.density > 0):
             raise InputError(f"Fabric.density must be a positive areal density in kg/m^2, got {self.density!r}",
                              field="Fabric.density", value=self.density)
+        object.__setattr__(self, "density", float(self.density))
         object.__setattr__(self, "bending", _pair("bending", self.bending))
         object.__setattr__(self, "tensile", _pair("tensile", self.tensile))
         for name in ("shear", "twist"):
             v = getattr(self, name)
-            if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            if v is not None and not (_number(v) and math.isfinite(v) and v > 0):
                 raise InputError(f"Fabric.{name} must be positive (or None for the default), got {v!r}",
                                  field=f"Fabric.{name}", value=v)
+            if v is not None:
+                object.__setattr__(self, name, float(v))
 
     @classmethod
     def from_bending_length(cls, density: float, length, tensile, **kw) -> Fabric:
@@ -138,5 +148,7 @@ class Fabric:
         """The :class:`Material` of this fabric under ``force_model``; ``gamma`` the damping density (kg/(m^2 s));
         ``scale`` the section 3.1 factor: mu and gamma times ``scale`` and the weights too, so that the scaled sheet
         (its loads scaled with it) moves as the fabric does."""
+        gamma = real("Fabric.material gamma", gamma, non_negative=True)
+        scale = real("Fabric.material scale", scale, positive=True)
         eta, xi = self.weights(force_model)
         return Material(mu=scale * self.density, gamma=scale * gamma, eta=scale * eta, xi=scale * xi)

@@ -24,6 +24,7 @@ are the bending terms (at its nodes), :mod:`fdmodel.energy`. A flat plate's bend
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -84,6 +85,27 @@ class ShellEnergy(EnergyModel):
         return H
 
 
+def positive_parameter(model, name: str) -> None:
+    """Check a shell's parameter ``name`` as a positive finite real number (numpy's scalars too) and store it as a
+    float; InputError naming ``<Class>.<name>`` otherwise."""
+    v, owner = getattr(model, name), type(model).__name__
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real) or not np.isfinite(v) or v <= 0:
+        raise InputError(f"{owner} {name} must be a positive number, got {v!r}", field=f"{owner}.{name}", value=v)
+    object.__setattr__(model, name, float(v))
+
+
+def finite_stiffnesses(model, modulus: str = "E") -> None:
+    """InputError when a shell's membrane or bending stiffness (E h / (1 - nu^2), E h^3 / 12 / (1 - nu^2) and the
+    like) is not a finite positive number in double precision (E = 1e300 with h = 1e10)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        values = np.asarray(model.stiffnesses, dtype=float)
+    if not (np.all(np.isfinite(values)) and np.all(values > 0)):
+        owner = type(model).__name__
+        raise InputError(f"{owner}: its stiffnesses {tuple(float(v) for v in values)} (N/m, N m) are not finite "
+                         "positive numbers in double precision; choose E and h of a physical sheet",
+                         field=f"{owner}.{modulus}", value=getattr(model, modulus))
+
+
 @dataclass(frozen=True, eq=False)
 class Koiter(ShellEnergy):
     """Koiter's isotropic shell (module docstring): ``Scene(force_model=Koiter(E=..., nu=..., h=...))``.
@@ -107,14 +129,13 @@ class Koiter(ShellEnergy):
     h: float = 1.0e-3
 
     def __post_init__(self):
-        for name, low in (("E", 0.0), ("h", 0.0)):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= low:
-                raise InputError(f"Koiter {name} must be a positive number, got {v!r}", field=f"Koiter.{name}",
-                                 value=v)
+        for name in ("E", "h"):
+            positive_parameter(self, name)
         nu = self.nu
-        if isinstance(nu, bool) or not isinstance(nu, (int, float)) or not 0 <= nu < 0.5:
+        if isinstance(nu, (bool, np.bool_)) or not isinstance(nu, numbers.Real) or not 0 <= nu < 0.5:
             raise InputError(f"Koiter nu must lie in [0, 1/2), got {nu!r}", field="Koiter.nu", value=nu)
+        object.__setattr__(self, "nu", float(nu))
+        finite_stiffnesses(self)
 
     @property
     def couples(self):

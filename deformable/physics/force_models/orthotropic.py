@@ -24,13 +24,14 @@ separate bending law as another member of this family.
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import InputError
 from .base import RESIDUALS
-from .koiter import ShellEnergy
+from .koiter import ShellEnergy, finite_stiffnesses, positive_parameter
 
 __all__ = ["Orthotropic"]
 
@@ -64,15 +65,14 @@ class Orthotropic(ShellEnergy):
 
     def __post_init__(self):
         for name in ("E1", "E2", "G12", "h"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-                raise InputError(f"Orthotropic {name} must be a positive number, got {v!r}",
-                                 field=f"Orthotropic.{name}", value=v)
+            positive_parameter(self, name)
         nu = self.nu12
-        if isinstance(nu, bool) or not isinstance(nu, (int, float)) or not np.isfinite(nu) or nu < 0 \
+        if isinstance(nu, (bool, np.bool_)) or not isinstance(nu, numbers.Real) or not np.isfinite(nu) or nu < 0 \
                 or nu**2 * self.E2 / self.E1 >= 1:
             raise InputError(f"Orthotropic nu12 must be non-negative with nu12^2 E2 / E1 < 1 (a positive definite "
                              f"law), got {nu!r}", field="Orthotropic.nu12", value=nu)
+        object.__setattr__(self, "nu12", float(nu))
+        finite_stiffnesses(self, "E1")
 
     @property
     def couples(self):
