@@ -172,7 +172,12 @@ def equilibrium_path(model, X0, length: float, steps: int = 50, max_load: float 
         fl.factor = lam
         A = solver.newton_matrix(x, 0.0, 0.0, kind="newton").tocsc()
         floor[0] = float(10 * np.finfo(float).eps * np.max(np.abs(A.diagonal())) * max(1.0, np.max(np.abs(x))))
-        return spla.splu(A)
+        try:
+            return spla.splu(A)
+        except RuntimeError as err:  # SuperLU: "Factor is exactly singular"
+            raise ConvergenceError(f"equilibrium_path: the tangent matrix is singular at load factor {lam:.6g} "
+                                   f"({err}): a deformation the constraints leave free costs no energy there",
+                                   [], unflat(x, fl.n)) from None
 
     def point(x, lam, iterations, branch):
         fl.factor = lam
@@ -181,7 +186,12 @@ def equilibrium_path(model, X0, length: float, steps: int = 50, max_load: float 
 
     path = Path([point(x, 0.0, 0, 0)])
     lam, ds, previous, branch = 0.0, length, None, 0
-    scale = max(float(np.max(np.abs(q_of(x)[free]), initial=0.0)), np.finfo(float).tiny)
+    scale = float(np.max(np.abs(q_of(x)[free]), initial=0.0))
+    if not scale > 0:
+        raise InputError(f"equilibrium_path: no load to follow at t = {t:g} s: the load factor scales the scene's "
+                         "applied loads, edge moments and pressures, and on the free degrees of freedom they are all "
+                         "zero there (a load with time= may be zero at t = 0: give t, the time whose loads the path "
+                         "follows)", field="t", value=t)
     switched = not switch
     while len(path) <= steps:
         step = _step(x, lam, ds, previous, residual, matrix, q_of, free, psi, tol * scale, max_iter, fl, X0, t, fl_floor=floor)
