@@ -33,7 +33,7 @@ def test_a_singular_tangent_is_a_convergence_error_naming_the_load_factor(monkey
     """SuperLU's RuntimeError on an exactly singular matrix (a free mode) becomes the path's own error."""
     import deformable.solve.continuation as continuation
 
-    def singular(A):
+    def singular(A, **options):
         raise RuntimeError("Factor is exactly singular")
 
     monkeypatch.setattr(continuation.spla, "splu", singular)
