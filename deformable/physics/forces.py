@@ -37,6 +37,7 @@ from ..algebra.patterns import FixedPattern
 from ..checks import function, real, vector
 from ..errors import InputError
 from ..geometry.sheet import EDGES
+from .callables import called
 from .moments import EdgeMoments, rotation_angle
 from .pressure import PressurePotential
 
@@ -66,8 +67,9 @@ class Sinusoidal:
         return self.offset + self.amplitude * np.sin(2 * np.pi * self.frequency * t + self.phase)
 
 
-def _factor(time, t: float) -> float:
-    return 1.0 if time is None else float(time(t))
+def _factor(load, t: float) -> float:
+    """The load's time factor at t (1 without one), its errors and non-finite values named."""
+    return 1.0 if load.time is None else float(called(f"{type(load).__name__}.time", load.time, t))
 
 
 class Load:
@@ -147,7 +149,7 @@ class Gravity(BodyLoad):
     def density(self, a1, a2, t: float, mu) -> np.ndarray:
         """Force density at points (a1, a2) of any shape S: array S + (3,)."""
         mu = np.broadcast_to(np.asarray(mu, float), np.shape(a1))
-        return (_factor(self.time, t) * self.g * mu)[..., None] * np.asarray(self.direction)
+        return (_factor(self, t) * self.g * mu)[..., None] * np.asarray(self.direction)
 
 
 @dataclass(frozen=True)
@@ -176,12 +178,12 @@ class BodyForce(BodyLoad):
     def density(self, a1, a2, t: float, mu=None) -> np.ndarray:
         a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
         if callable(self.f):
-            out = np.broadcast_to(np.asarray(self.f(a1, a2, t), float), a1.shape + (3,)).copy()
+            out = np.broadcast_to(called("BodyForce.f", self.f, a1, a2, t), a1.shape + (3,)).copy()
         else:
             out = np.broadcast_to(np.asarray(self.f), a1.shape + (3,)).copy()
         if self.where is not None:
-            out *= np.asarray(self.where(a1, a2), bool)[..., None]
-        return _factor(self.time, t) * out
+            out *= called("BodyForce.where", self.where, a1, a2).astype(bool)[..., None]
+        return _factor(self, t) * out
 
 
 @dataclass(frozen=True)
@@ -205,10 +207,10 @@ class EdgeLoad(AppliedLoad):
     def traction(self, a1, a2, t: float) -> np.ndarray:
         a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
         if callable(self.f):
-            out = np.broadcast_to(np.asarray(self.f(a1, a2, t), float), a1.shape + (3,))
+            out = np.broadcast_to(called("EdgeLoad.f", self.f, a1, a2, t), a1.shape + (3,))
         else:
             out = np.broadcast_to(np.asarray(self.f), a1.shape + (3,))
-        return _factor(self.time, t) * out
+        return _factor(self, t) * out
 
     def applied(self, loads, t: float) -> np.ndarray:
         """``at^T (w q)`` over the backend's rule on the edge (:class:`~deformable.backends.contract.EdgeRule`)."""
@@ -259,8 +261,8 @@ class EdgeMoment(ConservativeLoad):
     def moment(self, a1, a2, t: float) -> np.ndarray:
         """m at the edge points (a1, a2) at time t (N m/m), shape of a1."""
         a1, a2 = np.broadcast_arrays(np.asarray(a1, float), np.asarray(a2, float))
-        m = np.broadcast_to(np.asarray(self.m(a1, a2, t) if callable(self.m) else self.m, float), a1.shape)
-        return _factor(self.time, t) * m
+        m = np.broadcast_to(called("EdgeMoment.m", self.m, a1, a2, t) if callable(self.m) else float(self.m), a1.shape)
+        return _factor(self, t) * m
 
     #: theta, d theta / d d and d^2 theta / d d^2 (:func:`deformable.physics.moments.rotation_angle`)
     angle = staticmethod(rotation_angle)
@@ -290,7 +292,7 @@ class Pressure(ConservativeLoad):
 
     def pressure(self, t: float) -> float:
         """p at time t (Pa)."""
-        return _factor(self.time, t) * self.p
+        return _factor(self, t) * self.p
 
 
 @dataclass(frozen=True)
@@ -308,7 +310,7 @@ class PointLoad(AppliedLoad):
         function("PointLoad.time", self.time)
 
     def force(self, t: float) -> np.ndarray:
-        return _factor(self.time, t) * np.asarray(self.f)
+        return _factor(self, t) * np.asarray(self.f)
 
     def check(self, sheet) -> None:
         sheet.locate(self.at, f"{type(self).__name__}.at")  # inside the rectangle, or an InputError naming it
@@ -331,7 +333,7 @@ def _of_time(name: str, value):
 
 
 def _at_time(name: str, value, t: float) -> np.ndarray:
-    return _vector(f"{name} at t = {t:g}", value(t)) if callable(value) else np.asarray(value, float)
+    return _vector(f"{name} at t = {t:g}", called(name, value, t)) if callable(value) else np.asarray(value, float)
 
 
 class SpringPotential:
@@ -465,7 +467,7 @@ class Wind(VelocityLoad):
         function("Wind.time", self.time)
 
     def _normal_speed(self, n, v, t):
-        w = _factor(self.time, t) * _at_time("Wind.velocity", self.velocity, t)
+        w = _factor(self, t) * _at_time("Wind.velocity", self.velocity, t)
         return np.einsum("pa,pa->p", w - np.asarray(v, float), n)
 
     def density(self, n, area, v, t: float) -> np.ndarray:
