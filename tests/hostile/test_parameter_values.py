@@ -27,3 +27,11 @@ def test_numpy_scalars_are_taken_as_the_numbers_they_are():
     fabric = dm.Fabric(density=np.int64(1), bending=1e-5, tensile=100.0, shear=np.float32(5.0))
     assert type(fabric.density) is float and type(fabric.shear) is float
     assert dm.Orthotropic(E1=np.float64(2e6), E2=1e6, G12=1e5, nu12=np.float32(0.25), h=1e-3).E1 == 2e6
+
+
+def test_far_too_many_contact_samples_get_the_memory_check_every_grid_gets():
+    from deformable import scenes
+
+    with pytest.raises(dm.ResourceError, match="contact points .* needs about .* of memory") as err:
+        dm.Simulation(scenes.config("floor", nodes=(12, 12), contact={"samples": 10**6}), "fd").run(steps=1)
+    assert "\n" not in str(err.value)
