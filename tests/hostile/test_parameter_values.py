@@ -32,6 +32,6 @@ def test_numpy_scalars_are_taken_as_the_numbers_they_are():
 def test_far_too_many_contact_samples_get_the_memory_check_every_grid_gets():
     from deformable import scenes
 
-    with pytest.raises(dm.ResourceError, match="contact points .* needs about .* of memory") as err:
+    with pytest.raises(dm.InputError, match="contact points .* needs about .* of memory") as err:
         dm.Simulation(scenes.config("floor", nodes=(12, 12), contact={"samples": 10**6}), "fd").run(steps=1)
     assert "\n" not in str(err.value)
