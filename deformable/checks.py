@@ -9,6 +9,7 @@ callable. These helpers say each rule once.
 
 from __future__ import annotations
 
+import difflib
 import importlib
 import math
 from importlib import metadata
@@ -18,8 +19,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "extra", "DISTRIBUTION",
-           "installed_version"]
+__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "suggest", "extra",
+           "DISTRIBUTION", "installed_version"]
 
 #: the project's name on the package registry (``pip install deformable-sheets``); the import names stay
 #: deformable, fdmodel, femodel and validation (the registry's own "deformable" is another project)
@@ -114,6 +115,19 @@ def sequence(field: str, value, kinds: tuple, names: str) -> tuple:
     return tuple(value)
 
 
+def suggest(name, known) -> str:
+    """``" (did you mean 'eta'?)"`` naming the known name closest to an unknown ``name``
+    (:func:`difflib.get_close_matches`, its default cutoff 0.6); "" when none is close or ``name`` is not a string.
+
+    Every refusal of an unknown name puts it right after the refused name, before the list of the known ones
+    (``unknown key 'etaa' for scene 'hanging' (did you mean 'eta'?); known keys: ...``): one line still.
+    """
+    if not isinstance(name, str):
+        return ""
+    close = difflib.get_close_matches(name, [str(k) for k in known], n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
 def known_keys(table, known, where: str, field: str | None = None) -> None:
     """InputError naming the first key of ``table`` that is not one of ``known``, and the known ones.
 
@@ -123,7 +137,8 @@ def known_keys(table, known, where: str, field: str | None = None) -> None:
     known = list(known)
     for key in table:
         if key not in known:
-            raise InputError(f"unknown key {key!r} {where}; known keys: {', '.join(map(str, known))}",
+            raise InputError(f"unknown key {key!r} {where}{suggest(key, known)}; known keys: "
+                             f"{', '.join(map(str, known))}",
                              field=field or str(key), value=key)
 
 

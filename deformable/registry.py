@@ -17,9 +17,10 @@ the model of py-pde's solver registry, ``pde/solvers/base.py``)::
 A class defined outside the package (a user's energy, a user's scene)
 registers in the same way, by subclassing: nothing else needs to change. An
 unknown name is an :class:`~deformable.errors.InputError` that lists the
-known ones. A second class under a name that another module already holds is
-refused; redefining a class in the same module (a notebook cell run again)
-replaces it.
+known ones, after the closest of them (``did you mean 'variational'?``,
+:func:`deformable.checks.suggest`). A second class under a name that another
+module already holds is refused; redefining a class in the same module (a
+notebook cell run again) replaces it.
 
 Families: force models (:class:`deformable.physics.ForceModel`), backends
 (:class:`deformable.backends.Discretisation`), time-stepping schemes
@@ -33,6 +34,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+from .checks import suggest
 from .errors import InputError
 
 __all__ = ["Registered"]
@@ -86,7 +88,8 @@ class Registered:
         """The registered class called ``name``; InputError listing the known names for any other value."""
         found = cls._registry.get(name) if isinstance(name, str) else None
         if found is None or not issubclass(found, cls):
-            raise InputError(f"unknown {cls.family} {name!r}; choose one of {', '.join(cls.names())}",
+            raise InputError(f"unknown {cls.family} {name!r}{suggest(name, cls.names())}; choose one of "
+                             f"{', '.join(cls.names())}",
                              field=cls.family, value=name)
         return found
 

@@ -7,10 +7,11 @@ folder holds; :class:`RunFolder` claims one:
   ``overwrite`` is given, and then the results are removed first; files that are not a run's results (anything
   :func:`is_result` does not recognise) are never removed, and a folder holding them is refused even with
   ``overwrite``;
-- a lock file (:data:`LOCK`, created with ``O_EXCL``, holding the owner's pid and host) keeps two runs out of one
-  folder, also where HDF5's own file locking is switched off (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file
-  systems); a stale lock (same host, and its process gone, started after the lock was written, or not a Python
-  process: :func:`stale`) is cleared with a warning and taken over;
+- a lock file (:data:`LOCK`) keeps two runs out of one folder, also where HDF5's own file locking is switched off
+  (``HDF5_USE_FILE_LOCKING=FALSE``, usual on network file systems): an OS lock on it (``flock``, or Windows' byte
+  lock, by :mod:`filelock`), which the OS releases when its run dies, so a killed run's lock file blocks nobody
+  (the next run takes it over, with a warning) and no test of whether a process lives is needed; the file holds
+  the owner's pid and host, for the message that refuses a second run (:func:`held`);
 - text files (the resolved config) are written atomically (a temporary file, then a rename), so the config beside
   the results always describes them.
 
@@ -27,10 +28,12 @@ import shutil
 import socket
 from pathlib import Path
 
+from filelock import FileLock, Timeout
+
 from ..errors import OutputFolderError, WriteError
 from ..limits import existing
 
-__all__ = ["LOCK", "RunFolder", "inspect", "is_result", "fresh", "write_text", "stale"]
+__all__ = ["LOCK", "RunFolder", "inspect", "is_result", "fresh", "write_text", "held"]
 
 log = logging.getLogger(__name__)
 
@@ -87,68 +90,63 @@ def _names(paths, most: int = 3) -> str:
     return ", ".join(names) + (f" and {len(paths) - most} more" if len(paths) > most else "")
 
 
-def _started(pid: int) -> float | None:
-    """When process ``pid`` started (s since the epoch, from Linux's /proc); None where that cannot be read."""
-    try:
-        fields_ = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-        boot = next(float(line.split()[1]) for line in Path("/proc/stat").read_text().splitlines()
-                    if line.startswith("btime "))
-        return boot + int(fields_[19]) / os.sysconf("SC_CLK_TCK")  # field 22 of proc(5): starttime in ticks
-    except (OSError, ValueError, IndexError, StopIteration):
-        return None
+def _owner_line(fd: int) -> None:
+    """Write 'PID HOST' into the lock file just locked (its descriptor): who holds it, for the refusal's message."""
+    os.ftruncate(fd, 0)
+    os.lseek(fd, 0, os.SEEK_SET)
+    os.write(fd, f"{os.getpid()} {socket.gethostname()}\n".encode())
 
 
-def _runs_python(pid: int) -> bool | None:
-    """Whether process ``pid`` runs Python (a run of this package does); None where that cannot be read."""
-    try:
-        argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
-    except OSError:
-        return None
-    return any(b"python" in Path(os.fsdecode(a)).name.encode() or b"deformable" in a for a in argv[:2])
+def _file_lock(lock: Path, owner: bool) -> FileLock:
+    """The OS lock on ``lock`` (flock, or Windows' byte lock), tried once (timeout 0) and shared by the threads of
+    the run; with ``owner``, its holder writes its pid and host into the file (filelock 4's ``on_acquired``; older
+    versions leave the file empty)."""
+    kwargs = dict(timeout=0, thread_local=False)
+    if owner:
+        try:
+            return FileLock(lock, **kwargs, on_acquired=_owner_line)
+        except TypeError:  # filelock < 4: no on_acquired
+            pass
+    return FileLock(lock, **kwargs)
 
 
-def _holder(folder: Path) -> tuple[str | None, str | None]:
-    """The lock in ``folder``: ('pid N on HOST', None) when it is live, (None, why) when it is stale
-    (:func:`stale`), (None, None) when there is none."""
-    lock = folder / LOCK
+def _read_owner(lock: Path) -> str:
+    """'pid N on HOST' from the lock file, "an unknown run" when it says nothing readable."""
     try:
         pid, host = lock.read_text().split()[:2]
-        pid = int(pid)
+        return f"pid {int(pid)} on {host}"
     except (OSError, ValueError):
-        return (None if not lock.exists() else "an unknown run"), None
-    why = stale(lock, pid) if host == socket.gethostname() else None
-    return (None, why) if why is not None else (f"pid {pid} on {host}", None)
+        return "an unknown run"
 
 
-def _owner(folder: Path) -> str | None:
-    """'pid N on HOST' of a live lock in ``folder``; None when there is none or it is stale (:func:`stale`)."""
-    return _holder(folder)[0]
+def _in_use(folder: Path, owner: str) -> OutputFolderError:
+    return OutputFolderError(f"output folder {str(folder)!r} is in use by another run ({owner}; lock file {LOCK}); "
+                             "choose another --out", field="out", value=str(folder))
 
 
-def stale(lock: Path, pid: int) -> str | None:
-    """Why the lock file ``lock`` of process ``pid`` (on this host) is stale, or None when its run may be alive.
+def _cannot_lock(folder: Path, err: OSError) -> OutputFolderError:
+    return OutputFolderError(f"cannot lock output folder {str(folder)!r}: {err.strerror or err}", field="out",
+                             value=str(folder))
 
-    Stale: the process is gone; or it started after the lock was written (the pid was reused, after a reboot say);
-    or it is not a Python process (a run of this package is). A process that cannot be inspected (no /proc) counts
-    as alive.
+
+def held(folder) -> str | None:
+    """'pid N on HOST' (or "an unknown run") when another run holds the lock of ``folder``, None when nobody does.
+
+    Tries the OS lock and lets it go at once; creates no file (a folder without a lock file is free). A lock file
+    that nobody holds is one a run left when it was killed: the OS released its lock with the process.
     """
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return f"its run (pid {pid}) is gone"
-    except PermissionError:
-        pass
-    except (OverflowError, ValueError):
-        return f"pid {pid} is not a process number"
-    started = _started(pid)
-    try:
-        written = lock.stat().st_mtime
-    except OSError:
+    lock = Path(folder) / LOCK
+    if not lock.is_file():
         return None
-    if started is not None and started > written + 1.0:  # /proc's start time is in clock ticks
-        return f"pid {pid} is a newer process than the lock"
-    if _runs_python(pid) is False:
-        return f"pid {pid} is not a run of this package"
+    owner = _read_owner(lock)  # read before trying: filelock < 4 truncates the file when it opens it
+    probe = _file_lock(lock, owner=False)
+    try:
+        probe.acquire()
+    except Timeout:
+        return owner
+    except OSError as err:
+        raise _cannot_lock(Path(folder), err) from None
+    probe.release()
     return None
 
 
@@ -191,7 +189,7 @@ class RunFolder:
 
     def __init__(self, path, overwrite: bool = False, own=None):
         self.path, self.overwrite, self.own = Path(path), bool(overwrite), own
-        self._locked = False
+        self._file_lock = None
 
     def check(self) -> bool:
         """OutputFolderError unless the folder can be this run's; True when it holds the run's own results.
@@ -204,10 +202,9 @@ class RunFolder:
             why = "is a file" if parent == path else f"{str(parent)!r} is not a writable folder"
             raise OutputFolderError(f"cannot write to output folder {str(path)!r}: {why}", field="out",
                                     value=str(path))
-        owner = _owner(path)
+        owner = held(path)
         if owner is not None:
-            raise OutputFolderError(f"output folder {str(path)!r} is in use by another run ({owner}; lock file "
-                                    f"{LOCK}); choose another --out", field="out", value=str(path))
+            raise _in_use(path, owner)
         results, others = inspect(path)
         results = [p for p in results if p.name != LOCK]
         if not results and not others:
@@ -245,33 +242,28 @@ class RunFolder:
 
     def _lock(self):
         lock = self.path / LOCK
-        for _ in range(2):
-            try:
-                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                owner, why = _holder(self.path)
-                if owner is not None:
-                    raise OutputFolderError(f"output folder {str(self.path)!r} is in use by another run ({owner}; "
-                                            f"lock file {LOCK}); choose another --out", field="out",
-                                            value=str(self.path)) from None
-                lock.unlink(missing_ok=True)
-                if why is not None:  # (None: the lock went away meanwhile)
-                    log.warning("cleared the stale lock %s: %s", lock, why)
-                continue
-            except OSError as err:
-                raise OutputFolderError(f"cannot write to output folder {str(self.path)!r}: {err.strerror or err}",
-                                        field="out", value=str(self.path)) from None
-            with os.fdopen(fd, "w") as f:
-                f.write(f"{os.getpid()} {socket.gethostname()}\n")
-            self._locked = True
-            return
-        raise OutputFolderError(f"cannot lock output folder {str(self.path)!r}", field="out", value=str(self.path))
+        left = _read_owner(lock) if lock.is_file() else None  # (read before trying, as in held())
+        file_lock = _file_lock(lock, owner=True)
+        try:
+            file_lock.acquire()
+        except Timeout:
+            raise _in_use(self.path, left or "an unknown run") from None
+        except OSError as err:
+            raise _cannot_lock(self.path, err) from None
+        self._file_lock = file_lock
+        if left is not None:
+            log.warning("cleared the stale lock %s: its run (%s) ended without releasing it", lock, left)
 
     def release(self):
-        """Remove the lock (a finished, diverged or failed run does)."""
-        if self._locked:
+        """Remove the lock (a finished, diverged or failed run does); the OS releases it anyway when the run dies.
+
+        The file goes first, while it is still locked: a run that opened it meanwhile then finds it unlinked and
+        does not take it (filelock checks), rather than two runs holding two files of one name.
+        """
+        if self._file_lock is not None:
             (self.path / LOCK).unlink(missing_ok=True)
-            self._locked = False
+            self._file_lock.release()
+            self._file_lock = None
 
     def __enter__(self):
         self.claim()

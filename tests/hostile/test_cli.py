@@ -18,7 +18,7 @@ import pytest
 
 from deformable import scenes
 from deformable.dynamics import DivergenceGuard, TimeStepper
-from deformable.io.folder import LOCK
+from deformable.io.folder import LOCK, RunFolder
 from validation.commands import main
 from validation.harness.backends import make_model
 
@@ -82,19 +82,24 @@ def test_the_default_out_is_a_fresh_folder_per_run(tmp_path, capsys, monkeypatch
 
 def test_a_folder_in_use_is_refused_in_one_line_before_anything_is_written(tmp_path, capsys):
     out = tmp_path / "out"
-    out.mkdir()
-    (out / LOCK).write_text(f"{os.getpid()} {socket.gethostname()}\n")  # this process: a live run
-    code, _, err = _run(["run", "flag", *SMALL, "--out", out], capsys)
-    _refused(code, err, "is in use by another run (pid")
-    assert [p.name for p in out.iterdir()] == [LOCK]
+    with RunFolder(out):  # this process holds the folder's OS lock: a live run
+        code, _, err = _run(["run", "flag", *SMALL, "--out", out], capsys)
+        _refused(code, err, f"is in use by another run (pid {os.getpid()} on {socket.gethostname()}")
+        assert [p.name for p in out.iterdir()] == [LOCK]
 
 
-def test_the_lock_of_a_run_that_died_is_taken_over_and_released(tmp_path, capsys):
-    dead = subprocess.Popen([sys.executable, "-c", "pass"])
-    dead.wait()
+def test_the_lock_of_a_run_that_was_killed_is_taken_over_and_released(tmp_path, capsys):
+    """SIGKILL leaves the lock file, but the OS released its lock with the process: the next run takes it."""
     out = tmp_path / "out"
-    out.mkdir()
-    (out / LOCK).write_text(f"{dead.pid} {socket.gethostname()}\n")
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time; from deformable.io.folder import RunFolder; "
+                               "RunFolder(sys.argv[1]).claim(); print('locked', flush=True); time.sleep(600)",
+                               str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "locked"
+        assert (out / LOCK).read_text().split()[0] == str(holder.pid)
+    finally:
+        holder.kill()
+        holder.communicate()
     code, _, err = _run(["run", "flag", *SMALL, "--out", out], capsys)
     assert code == 0, err
     assert not (out / LOCK).exists() and (out / "flag.xdmf").is_file()

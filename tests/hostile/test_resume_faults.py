@@ -18,7 +18,7 @@ import pytest
 from deformable import scenes
 from deformable.dynamics import Callback, State, TimeStepper
 from deformable.io import CheckpointWriter, load_checkpoint
-from deformable.io.folder import LOCK
+from deformable.io.folder import LOCK, RunFolder
 from validation.commands import main
 from validation.harness.backends import make_model
 
@@ -204,8 +204,9 @@ def _lock(folder, pid, mtime=None):
 
 
 def test_a_stale_lock_naming_a_live_process_is_cleared_with_a_message(tmp_path, capsys, caplog):
-    """A lock whose pid is a live process that is not a run (pid reuse): a non-Python process, and this very
-    (Python) process named in a lock written before it started. ce6e554 refused both for good."""
+    """A lock file whose pid is a live process that is not a run (pid reuse): a non-Python process, and this very
+    (Python) process named in a lock written before it started. ce6e554 refused both for good; nobody holds the
+    file's OS lock, so it is taken over."""
     other = subprocess.Popen(["cat"], stdin=subprocess.PIPE)
     try:
         for k, (pid, mtime) in enumerate([(other.pid, None), (os.getpid(), 1e9)]):
@@ -220,10 +221,11 @@ def test_a_stale_lock_naming_a_live_process_is_cleared_with_a_message(tmp_path, 
 
 
 def test_a_live_run_s_lock_still_keeps_a_second_run_out(tmp_path, capsys):
-    """This process is Python and started before the lock: the lock of a live run, refused in one line."""
-    _lock(tmp_path, os.getpid())
-    code, _, err = _run(["hanging", "--grid", "5x5", "--steps", "1", "--out", tmp_path, "--overwrite"], capsys)
-    assert code == 2 and "in use by another run" in err and len(err.strip().splitlines()) == 1
+    """A folder whose OS lock a live run holds (this process): a second run is refused in one line, --overwrite
+    or not."""
+    with RunFolder(tmp_path):
+        code, _, err = _run(["hanging", "--grid", "5x5", "--steps", "1", "--out", tmp_path, "--overwrite"], capsys)
+    assert code == 2 and f"in use by another run (pid {os.getpid()} on" in err and len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.slow  # a slow fault or a whole pipeline, run by pytest -m slow

@@ -105,8 +105,9 @@ def _rate_arguments(parser) -> None:
     """The rate rows' and the peer rows' arguments."""
     parser.add_argument("--rates", action="store_true",
                         help="rate rows: simulated s per CPU s (one thread) of --rates-scenes for --rates-time s under "
-                        "the defaults and under ce6e554's Newton settings, with the Newton error of each against a "
-                        "tight solve and the dt vs dt/2 difference (minutes to hours; default: off)")
+                        "the default Newton settings and under those from before issue 27's step test (the force test "
+                        "at rtol 1e-3, a factorisation every solve), with the Newton error of each against a tight "
+                        "solve and the dt vs dt/2 difference (minutes to hours; default: off)")
     parser.add_argument("--rates-scenes", default="curtain,flag,sphere", metavar="NAME,...",
                         help="rate rows: the scenes (default: curtain,flag,sphere)")
     parser.add_argument("--rates-fd", default="32,64,128", metavar="N,...",
@@ -116,7 +117,9 @@ def _rate_arguments(parser) -> None:
     parser.add_argument("--rates-curtain-fd", default="256", metavar="N,...",
                         help="rate rows, the curtain alone, FD: further nodes a side (default: 256); '' for none")
     parser.add_argument("--rates-settings", default="defaults,ce6e554", metavar="NAME,...",
-                        help="rate rows: the Newton settings timed, defaults and/or ce6e554 (default: both)")
+                        help="rate rows: the Newton settings timed: defaults (as shipped) and/or the settings from "
+                        "before issue 27's step test, named ce6e554 after the commit whose settings they are "
+                        "(default: both)")
     parser.add_argument("--no-rates-references", dest="rates_references", action="store_false",
                         help="rate rows: no tight references (the Newton and time errors not measured; hours saved at "
                         "FD 256)")

@@ -9,10 +9,12 @@ For a :class:`~validation.harness.study.StudyResult` ``res`` and an output folde
 - ``results.json``: every number (tables, checks, data) and the resolved
   configuration;
 - ``run.md`` and ``run.json``: what depends on the run rather than on the code
-  (the wall time, package versions, the time of writing, and the study's
-  ``volatile`` tables and figures and its ``run_findings``, e.g. CPU
-  timings), so that running a study again with the same code leaves
-  summary.md, results.json, the CSVs and the PNGs as they were;
+  (the wall time; the environment, :func:`environment`: package versions from
+  importlib.metadata, the BLAS and OpenMP libraries from threadpoolctl, the
+  git commit; the time of writing; the study's ``volatile`` tables and
+  figures and its ``run_findings``, e.g. CPU timings), so that running a
+  study again with the same code leaves summary.md, results.json, the CSVs
+  and the PNGs as they were;
 - ``<table>.csv`` for every table (full precision);
 - ``<figure>.png`` for every figure: log-log axes with labelled axes and
   units, a legend and dashed reference-slope lines (~50-100 KB each);
@@ -37,19 +39,25 @@ import math
 import os
 import platform
 import shutil
+import subprocess
 import tempfile
 from datetime import datetime, timezone
 from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+from threadpoolctl import threadpool_info
+
+from deformable.checks import DISTRIBUTION
 
 from .study import Figure, StudyResult, Table
 
-__all__ = ["write_study", "write_index", "versions", "markdown_table", "csv_text", "plot"]
+__all__ = ["write_study", "write_index", "versions", "thread_pools", "git_commit", "environment", "markdown_table",
+           "csv_text", "plot"]
 
 log = logging.getLogger(__name__)
-PACKAGES = ("deformable-sheets", "numpy", "scipy", "scikit-fem", "matplotlib", "tqdm")
+#: the distributions whose versions run.md states (beside Python's, the thread pools' and the commit)
+PACKAGES = (DISTRIBUTION, "numpy", "scipy", "scikit-fem", "numba", "ipctk", "pypardiso", "matplotlib", "meshio", "h5py")
 
 
 def writable_folder(path) -> Path:
@@ -68,13 +76,50 @@ def writable_folder(path) -> Path:
 
 
 def versions() -> dict[str, str]:
-    """Versions of Python and the packages the results depend on."""
+    """Versions of Python and of the distributions of :data:`PACKAGES` (importlib.metadata; "not installed" for one
+    that is not)."""
     out = {"python": platform.python_version()}
     for p in PACKAGES:
         try:
             out[p] = metadata.version(p)
         except metadata.PackageNotFoundError:
             out[p] = "not installed"
+    return out
+
+
+def thread_pools() -> list[dict]:
+    """The BLAS and OpenMP libraries loaded in this process, as threadpoolctl reports them: each one's user_api
+    ("blas", "openmp"), internal_api ("openblas", "mkl", ...), version and num_threads."""
+    keys = ("user_api", "internal_api", "version", "num_threads")
+    return [{k: info.get(k) for k in keys} for info in threadpool_info()]
+
+
+def git_commit(cwd=None) -> str:
+    """The commit checked out in ``cwd`` (default: the working directory), "not a git checkout" when it is not one
+    or git cannot say (no git, a timeout): never an error."""
+    try:
+        done = subprocess.run(["git", "rev-parse", "HEAD"], cwd=cwd, capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return "not a git checkout"
+    commit = done.stdout.strip()
+    return commit if done.returncode == 0 and commit else "not a git checkout"
+
+
+def environment() -> dict:
+    """What a run's results may depend on besides the code: :func:`versions`, :func:`thread_pools` and the
+    :func:`git_commit` of the working directory (run.md and run.json)."""
+    return {"versions": versions(), "thread_pools": thread_pools(), "git_commit": git_commit()}
+
+
+def _environment_page(env: dict) -> list[str]:
+    """run.md's "Environment" section: the versions, the thread pools and the commit."""
+    rows = [*env["versions"].items(), ("git commit", env["git_commit"])]
+    out = ["## Environment", "", markdown_table(("package", "version"), rows), ""]
+    if env["thread_pools"]:
+        pools = [(p["user_api"], p["internal_api"], p["version"], p["num_threads"]) for p in env["thread_pools"]]
+        out += [markdown_table(("thread pool", "library", "version", "threads"), pools), ""]
+    else:
+        out += ["No BLAS or OpenMP library loaded (threadpoolctl found none).", ""]
     return out
 
 
@@ -259,13 +304,13 @@ def _summary(res: StudyResult) -> str:
     return "\n".join(out) + "\n"
 
 
-def _run_page(res: StudyResult, ver: dict) -> str:
-    out = [f"# Study `{res.study}`: this run", "",
-           f"Wall time {res.wall_time:.1f} s; " + ", ".join(f"{k} {v}" for k, v in ver.items()), ""]
+def _run_page(res: StudyResult, env: dict) -> str:
+    out = [f"# Study `{res.study}`: this run", "", f"Wall time {res.wall_time:.1f} s.", ""]
     out += _tables([t for t in res.tables if t.volatile])
     if res.run_findings:
         out += ["## Findings of this run", ""] + [f"- {f}" for f in res.run_findings] + [""]
     out += _figures([f for f in res.figures if f.volatile])
+    out += _environment_page(env)
     return "\n".join(out) + "\n"
 
 
@@ -276,12 +321,12 @@ def write_study(res: StudyResult, out: str | os.PathLike) -> Path:
     final = out / res.study
     tmp = Path(tempfile.mkdtemp(prefix=f".{res.study}-", dir=out))
     try:
-        ver = versions()
+        env = environment()
         (tmp / "summary.md").write_text(_summary(res))
-        (tmp / "run.md").write_text(_run_page(res, ver))
+        (tmp / "run.md").write_text(_run_page(res, env))
         payload = res.to_dict()
         volatile = {t.name for t in res.tables if t.volatile}
-        run = {"wall_time": res.wall_time, "versions": ver,
+        run = {"wall_time": res.wall_time, **env,
                "written": datetime.now(timezone.utc).isoformat(timespec="seconds"),
                "tables": [t for t in payload["tables"] if t["name"] in volatile], "findings": list(res.run_findings)}
         payload["tables"] = [t for t in payload["tables"] if t["name"] not in volatile]

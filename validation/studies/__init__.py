@@ -5,6 +5,8 @@ Each module defines one :class:`~validation.harness.study.Study` as ``STUDY``.
 
 from __future__ import annotations
 
+from deformable.checks import suggest
+
 from . import (compatibility, contact, cross, fabrics, modes, paper, shells, statics, temporal, tensors, variational,
                work)
 
@@ -16,8 +18,8 @@ STUDIES = {m.STUDY.name: m.STUDY for m in (tensors, modes, statics, cross, tempo
 
 
 def get_study(name: str):
-    """The registered study ``name``; ValueError naming the known ones otherwise."""
+    """The registered study ``name``; ValueError naming the closest and the known ones otherwise."""
     try:
         return STUDIES[name]
-    except KeyError:
-        raise ValueError(f"unknown study {name!r}; known: {', '.join(STUDIES)}") from None
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown study {name!r}{suggest(name, STUDIES)}; known: {', '.join(STUDIES)}") from None
