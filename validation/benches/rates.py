@@ -8,7 +8,7 @@ or FE n elements a side, under one of two Newton settings
 
 - "defaults": the settings as they ship (the step test where no obstacle is,
   the force test under contact);
-- "ce6e554": main ``ce6e554``'s, before the step test (:data:`BEFORE`: the force
+- "before-step-test": the settings before issue 27's step test (main at commit ce6e554) (:data:`BEFORE`: the force
   test at rtol 1e-3, a factorisation every solve, direct solves, the whole
   matrix's definite fallback).
 
@@ -38,12 +38,12 @@ from .scenes import SceneRow, run_scene
 
 __all__ = ["RateRow", "BEFORE", "TIGHT", "bench_rates", "format_rates"]
 
-#: main ce6e554's Newton settings (before the step test)
+#: the Newton settings before issue 27's step test (main at commit ce6e554)
 BEFORE = dict(test="force", lag=False, krylov=False, fallback="definite", rtol=1e-3)
 #: the reference solve: the force test at a tolerance far below any step's Newton error
 TIGHT = dict(test="force", lag=False, rtol=1e-9)
 #: the settings of a row, by name
-SETTINGS = {"defaults": {}, "ce6e554": BEFORE}
+SETTINGS = {"defaults": {}, "before-step-test": BEFORE}
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ def _distance(a, b) -> float:
     return float(np.max(np.linalg.norm(a[1] - b[1], axis=-1)))
 
 
-def bench_rates(scene: str, backend: str, n: int, t_end: float, settings=("defaults", "ce6e554"),
+def bench_rates(scene: str, backend: str, n: int, t_end: float, settings=("defaults", "before-step-test"),
                 progress=print, references: bool = True) -> list[RateRow]:
     """The rows of one scene and grid: each of ``settings`` timed, against the two tight references (module
     docstring; ``references=False``: none, the errors nan); each run in a process of its own."""
@@ -90,18 +90,18 @@ def bench_rates(scene: str, backend: str, n: int, t_end: float, settings=("defau
 
 
 def speedups(rows) -> dict:
-    """(scene, backend, grid) -> the defaults' rate over ce6e554's, where both finished."""
+    """(scene, backend, grid) -> the defaults' rate over before-step-test's, where both finished."""
     by = {(r.scene, r.backend, r.grid, r.settings): r for r in rows}
     out = {}
     for (scene, backend, grid, name), r in by.items():
-        old = by.get((scene, backend, grid, "ce6e554"))
+        old = by.get((scene, backend, grid, "before-step-test"))
         if name == "defaults" and old is not None and r.status == old.status == "finished":
             out[scene, backend, grid] = r.rate / old.rate
     return out
 
 
 def format_rates(rows) -> str:
-    """A markdown table of rate rows, with each grid's speedup of the defaults over ce6e554's settings."""
+    """A markdown table of rate rows, with each grid's speedup of the defaults over before-step-test's settings."""
     up = speedups(rows)
     return markdown_table(
         ("scene", "backend", "grid", "unknowns", "dt (ms)", "settings", "status", "t reached (s)", "steps", "CPU (s)",
@@ -131,7 +131,7 @@ def verdicts(rows, peers=()) -> list[str]:
     for grid, target in (("64x64", 2.0), ("256x256", 3.0)):
         key = ("curtain", "fd", grid)
         if key in up:
-            line(f"curtain FD {grid} nodes, {_find(rows, *key).t_end:g} s, defaults' rate over ce6e554's",
+            line(f"curtain FD {grid} nodes, {_find(rows, *key).t_end:g} s, defaults' rate over before-step-test's",
                  f"{up[key]:.2f}x", f">= {target:g}x", up[key] >= target)
         else:
             out.append(f"curtain FD {grid} nodes: not measured in this run")

@@ -116,10 +116,10 @@ def _rate_arguments(parser) -> None:
                         help="rate rows, FE: elements a side (default: 16,32); '' for none")
     parser.add_argument("--rates-curtain-fd", default="256", metavar="N,...",
                         help="rate rows, the curtain alone, FD: further nodes a side (default: 256); '' for none")
-    parser.add_argument("--rates-settings", default="defaults,ce6e554", metavar="NAME,...",
-                        help="rate rows: the Newton settings timed: defaults (as shipped) and/or the settings from "
-                        "before issue 27's step test, named ce6e554 after the commit whose settings they are "
-                        "(default: both)")
+    parser.add_argument("--rates-settings", default="defaults,before-step-test", metavar="NAME,...",
+                        help="rate rows: the Newton settings timed: defaults (as shipped) and/or before-step-test "
+                        "(the settings from before issue 27's step test: the force test at rtol 1e-3, a "
+                        "factorisation every solve) (default: both)")
     parser.add_argument("--no-rates-references", dest="rates_references", action="store_false",
                         help="rate rows: no tight references (the Newton and time errors not measured; hours saved at "
                         "FD 256)")

@@ -130,7 +130,7 @@ def test_bench_bad_input(argv, message, tmp_path, capsys):
 
 
 def test_rate_rows_time_both_settings_against_their_references(tmp_path, capsys):
-    """``--rates``: the curtain on FD 6 x 6 nodes under the defaults and ce6e554's settings, each with its Newton
+    """``--rates``: the curtain on FD 6 x 6 nodes under the defaults and before-step-test's, each with its Newton
     error against the tight run and the dt vs dt/2 difference; the verdicts name what this run did not measure."""
     assert main(["bench", "--sizes", "8", "--steps", "1", "--self-fd", "", "--implicit-fd", "", "--contact-fd", "",
                  "--rates", "--rates-scenes", "curtain", "--rates-fd", "6", "--rates-fe", "", "--rates-curtain-fd", "",
@@ -138,7 +138,7 @@ def test_rate_rows_time_both_settings_against_their_references(tmp_path, capsys)
     with (tmp_path / "bench_rates.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert [(r["scene"], r["grid"], r["settings"]) for r in rows] == [("curtain", "6x6", "defaults"),
-                                                                       ("curtain", "6x6", "ce6e554")]
+                                                                       ("curtain", "6x6", "before-step-test")]
     for r in rows:
         assert r["status"] == "finished" and float(r["t_reached"]) == pytest.approx(0.03)
         assert float(r["rate"]) == pytest.approx(float(r["t_reached"]) / float(r["cpu"]), rel=1e-9)
@@ -186,15 +186,16 @@ def _rate(scene, grid, settings, rate, **kw):
 def test_the_rate_verdicts_follow_the_numbers():
     from validation.benches.rates import verdicts
 
-    rows = [_rate("curtain", "64x64", "defaults", 0.05), _rate("curtain", "64x64", "ce6e554", 0.02),
+    rows = [_rate("curtain", "64x64", "defaults", 0.05), _rate("curtain", "64x64", "before-step-test", 0.02),
             _rate("flag", "64x64", "defaults", 0.01, newton_per_step=2.6, error_ratio=0.05),
-            _rate("flag", "64x64", "ce6e554", 0.01)]
+            _rate("flag", "64x64", "before-step-test", 0.01)]
     lines = verdicts(rows)
     assert "2.50x (target >= 2x): met" in lines[0] and "256x256 nodes: not measured" in lines[1]
     assert any(line.startswith("flag FD 64x64") and "5.00 %" in line and line.endswith(": met") for line in lines)
     assert any("Newton iterations a step: 2.60 (target <= 2.5): NOT met" in line for line in lines)
     assert "sphere FD 64x64 Newton error: not measured in this run" in lines
-    slower = verdicts([_rate("curtain", "64x64", "defaults", 0.03), _rate("curtain", "64x64", "ce6e554", 0.02)])
+    slower = verdicts([_rate("curtain", "64x64", "defaults", 0.03),
+                       _rate("curtain", "64x64", "before-step-test", 0.02)])
     assert slower[0].endswith("1.50x (target >= 2x): NOT met")
     # the fine grid: CPU minutes per simulated second against 10, with its peak memory
     fine = [line for line in verdicts([_rate("curtain", "256x256", "defaults", 1 / 996, t_end=1.0, t_reached=1.0,
