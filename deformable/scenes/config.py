@@ -22,7 +22,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..checks import known_keys
+from ..checks import known_keys, suggest
 from ..contact.obstacles import Obstacle
 from ..contact.obstacles import from_table as obstacle_from_table
 from ..contact.settings import Contact
@@ -47,7 +47,8 @@ def force_model_field(value, where: str = "scene field force_model"):
         return value.name if value == value.name else value
     if isinstance(value, str):
         if value not in ForceModel.names():
-            raise InputError(f"{where} must be one of {names}, got {value!r}", field="force_model", value=value)
+            raise InputError(f"{where} must be one of {names}, got {value!r}{suggest(value, ForceModel.names())}",
+                             field="force_model", value=value)
         return value
     if not isinstance(value, dict):
         raise InputError(f"{where} must be a name ({names}) or a [force_model] table with a kind, got {value!r}",
@@ -55,7 +56,8 @@ def force_model_field(value, where: str = "scene field force_model"):
     table = dict(value)
     kind = table.pop("kind", None)
     if not isinstance(kind, str) or kind not in ForceModel.names():
-        raise InputError(f"{where}.kind must be one of {names}, got {kind!r}", field="force_model.kind", value=kind)
+        raise InputError(f"{where}.kind must be one of {names}, got {kind!r}{suggest(kind, ForceModel.names())}",
+                         field="force_model.kind", value=kind)
     cls = ForceModel.lookup(kind)
     own = [f.name for f in fields(cls)] if dataclasses.is_dataclass(cls) else []
     known_keys(table, ["kind", *own], f"in {where} of kind {kind!r}",

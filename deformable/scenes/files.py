@@ -36,7 +36,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from .. import tomlio
-from ..checks import known_keys
+from ..checks import known_keys, suggest
 from ..contact.obstacles import Obstacle
 from ..errors import InputError
 from .config import SceneConfig, force_model_table
@@ -81,7 +81,8 @@ def read_toml_text(text: str, source: str = "<string>", base=None, **overrides) 
     if not isinstance(name, str):
         raise InputError(f"scene file {source!r}: scene must be a name, got {name!r}", field="scene", value=name)
     if name not in SceneConfig.names():
-        raise InputError(f"unknown scene {name!r} in {source!r}; choose one of {', '.join(SceneConfig.names())}",
+        raise InputError(f"unknown scene {name!r} in {source!r}{suggest(name, SceneConfig.names())}; choose one of "
+                         f"{', '.join(SceneConfig.names())}",
                          field="scene", value=name)
     cls = SceneConfig.lookup(name)
     known_keys(data, sorted(f.name for f in fields(cls)), f"in scene file {source!r}")

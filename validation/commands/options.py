@@ -44,8 +44,9 @@ def run_options(parser, sweep: bool = False) -> None:
         backend_option(parser)
     force_model_option(parser)
     if not sweep:  # (a sweep's cases step with the backend's default scheme: validation.harness.sweep)
-        parser.add_argument("--scheme", default=None, choices=Scheme.names(),
-                            help="time-stepping scheme (default: the scene file's [run] scheme, else implicit-euler "
+        parser.add_argument("--scheme", default=None, metavar="SCHEME",
+                            help=f"time-stepping scheme: one of {', '.join(Scheme.names())} (default: the scene file's "
+                            "[run] scheme, else implicit-euler "
                             "for the variational model, semi-implicit for tpbf87 and frozen)")
     length = parser if sweep else parser.add_mutually_exclusive_group()
     if not sweep:
