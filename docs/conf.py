@@ -1,12 +1,17 @@
 """Sphinx configuration of the documentation site: ``python docs/build.py`` (``pip install ".[docs]"``).
 
-The user guide is the README and docs/design.md (MyST markdown, included as they are), the API reference is
-autodoc over the four packages (numpy docstrings through napoleon), the examples gallery is sphinx-gallery
-running every script of examples/ and showing the PNGs it writes, and the changelog is CHANGELOG.md.
+The landing page is the README (docs/index.md includes it); the user guide and the pages beside it are MyST
+markdown in docs/, with docs/design.md; the command line reference is a page per subcommand, rendered by
+sphinx-argparse from the command's own parser; the API reference is a page per job (model, backends, contact,
+dynamics, output, validation), autodoc over every module of the four packages (numpy docstrings through
+napoleon); the examples gallery is sphinx-gallery running every script of examples/ and showing the PNGs it
+writes; and the changelog is CHANGELOG.md. The generated pages (docs/api/, docs/cli/) are written here, from
+docs/build.py, before Sphinx reads the sources.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import shutil
@@ -14,12 +19,20 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))  # the source tree's packages, as the examples import them
+
+from sphinx.ext import autosummary
 
 import deformable
 
-project = "deformable"
+# docs/build.py as a module: the generated pages' contents, and the parser sphinx-argparse imports by name
+_spec = importlib.util.spec_from_file_location("deformable_docs", HERE / "build.py")
+SITE = sys.modules["deformable_docs"] = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(SITE)
+
+project = "deformable-sheets"  # the distribution, as pip installs it; the import name is deformable
 author = "the deformable developers"
 copyright = "2026, " + author
 release = version = deformable.__version__
@@ -32,18 +45,48 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
     "sphinx_gallery.gen_gallery",
+    "sphinxarg.ext",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "examples", "scenes", "Thumbs.db", ".DS_Store"]
-templates_path = ["_templates"]
 html_theme = "furo"
-html_title = f"deformable {release}"
+html_title = f"deformable-sheets {release}"
 
-myst_heading_anchors = 3  # the README's links to its own sections (#quick-start)
+myst_heading_anchors = 3  # links to sections of a page (guide.md#install)
 myst_enable_extensions = ["dollarmath"]
+smartquotes_action = "qe"  # quotes and ellipses; "--resume" in an option's help stays two hyphens
+myst_ref_domains = ["std", "py"]  # a link to a name is looked up there (sphinx-argparse's domain resolves none)
 
-autosummary_generate = True
-autosummary_ignore_module_all = True  # every submodule gets its page, not only those a package exports
+# the API reference: a page per job, each module a section of it (docs/build.py, GROUPS); the tables of modules
+# are autosummary's, with no page generated
+API = HERE / "api"
+shutil.rmtree(API, ignore_errors=True)
+API.mkdir()
+for _page, _names in SITE.api_groups().items():
+    (API / f"{_page}.rst").write_text(SITE.api_page(_page, _names), encoding="utf-8")
+autosummary_generate = False
+# a module's summary is its docstring's first sentence, which "eq. (13)" and "Fig. 1" do not end (autosummary
+# knows only "e.g.", "i.e.", "et al." and "vs.")
+autosummary.WELL_KNOWN_ABBREVIATIONS = (*autosummary.WELL_KNOWN_ABBREVIATIONS, "eq.", "Eq.", "Fig.", "Figs.")
+
+# the command line reference: a page per subcommand, and where the guide tells of it in words
+CLI_GUIDE = {
+    "scenes": ("the scenes", "../scenes.md"),
+    "run": ("Running a scene", "../guide.md#running-a-scene"),
+    "params": ("Viewing, parameters and checks", "../guide.md#viewing-parameters-and-checks"),
+    "view": ("Viewing, parameters and checks", "../guide.md#viewing-parameters-and-checks"),
+    "check": ("Viewing, parameters and checks", "../guide.md#viewing-parameters-and-checks"),
+    "validate": ("Validation", "../validation.md"),
+    "bench": ("Benchmarks", "../benchmarks.md"),
+    "sweep": ("Sweeps, on a laptop or a cluster", "../guide.md#sweeps-on-a-laptop-or-a-cluster"),
+    "fabrics": ("Force models, materials and fabrics", "../models.md#force-models-materials-and-fabrics"),
+}
+CLI = HERE / "cli"
+shutil.rmtree(CLI, ignore_errors=True)
+CLI.mkdir()
+for _name in SITE.commands():
+    (CLI / f"{_name}.md").write_text(SITE.cli_page(_name, guide=CLI_GUIDE.get(_name)), encoding="utf-8")
+
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
@@ -120,27 +163,25 @@ def _escape_docstring(app, what, name, obj, options, lines):
             lines[k] = plain_notation(line)
 
 
-# the README's links to files of the repository, made for the site: an example script (examples/NAME.py) leads
-# to its gallery page, examples/README.md to the gallery, CHANGELOG.md to the changelog page; any other file
-# that is no page of the site (CITATION.cff) is named as a literal
-_EXAMPLE_LINK = re.compile(r"\]\(examples/([A-Za-z0-9_]+)\.py\)")
-_FILE_LINK = re.compile(r"\[([^\]]+)\]\(([A-Za-z0-9_.-]+\.(?:cff|toml|txt))\)")
-
-
-def readme_for_site(text: str) -> str:
-    """The README's markdown with its links to repository files turned into links of the site."""
-    text = _EXAMPLE_LINK.sub(r"](auto_examples/\1)", text)
-    text = text.replace("](examples/README.md)", "](auto_examples/index)").replace("](CHANGELOG.md)", "](changelog)")
-    return _FILE_LINK.sub(r"`\2`", text)
+# the README on the landing page and the pages of docs/ link to the repository's files as GitHub shows them; on the
+# site those links lead to its own pages (docs/build.py, site_links), and the generated tables fill their places
 
 
 def _readme_links(app, relative_path, parent_docname, content):
-    content[0] = readme_for_site(content[0])
+    if Path(relative_path).name == "README.md":
+        content[0] = SITE.site_links(content[0], ROOT, (HERE / parent_docname).parent)
+
+
+def _page_links(app, docname, source):
+    path = Path(app.env.doc2path(docname))
+    if path.suffix == ".md":
+        source[0] = SITE.fill_tables(SITE.site_links(source[0], path.parent, path.parent))
 
 
 def setup(app):
     app.connect("autodoc-process-docstring", _escape_docstring)
     app.connect("include-read", _readme_links)
+    app.connect("source-read", _page_links)
 
 
 # the type words of a numpy docstring's fields ("array (ndof,)") are linked where a name matches; a word that

@@ -1,7 +1,7 @@
-"""The README's trade-off table: one cloth, every force model x scheme x backend, measured in one run.
+"""The trade-off table of docs/models.md: one cloth, every force model x scheme x backend, measured in one run.
 
-The README's library example (a 1 m x 1 m cloth pinned at its two top corners, falling from horizontal
-under gravity; mu = 0.1 kg/m^2, gamma = 0.05 kg/(m^2 s), eta = 50 N/m, xi = 1e-3 N m) for 1 s at
+The user guide's library example (docs/guide.md: a 1 m x 1 m cloth pinned at its two top corners, falling from
+horizontal under gravity; mu = 0.1 kg/m^2, gamma = 0.05 kg/(m^2 s), eta = 50 N/m, xi = 1e-3 N m) for 1 s at
 ``dt="auto"``: full weight tensors for the variational model, the paper's diagonal ones (eta_12 = xi_12
 = 0) for tpbf87. Prints a markdown table: status, steps, wall time (to the end, or to the divergence
 guard's stop), its ratio to the first row (FD, implicit Euler), the final elastic energy (eq. 13) and the

@@ -1,8 +1,9 @@
-"""The README's numbers that a committed report measured are read from that report: a test fails when they drift.
+"""The numbers of the README and of the docs pages its text moved to (docs/guide.md, docs/models.md,
+docs/scenes.md) that a committed report measured are read from that report: a test fails when they drift.
 
-Each claim names the report, the quantity (read from its results.json, as the study computed it) and the text
-the README states it in. Regenerating a report that moves a number fails this test until the README says the new
-one: a number is never typed twice.
+Each claim names the page, the report, the quantity (read from its results.json, as the study computed it) and
+the text the page states it in. Regenerating a report that moves a number fails this test until the page says
+the new one: a number is never typed twice.
 """
 
 import json
@@ -13,6 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+GUIDE, MODELS, SCENES = (ROOT / "docs" / f"{page}.md" for page in ("guide", "models", "scenes"))
 
 
 def results(study: str) -> dict:
@@ -56,18 +58,22 @@ def fabrics_peirce() -> list[str]:
     return [f"within {fd:.2f} % of the sources' on FD and {fe:.2f} % on FE"]
 
 
-CLAIMS = [paper_fold_ratios, mesh_ridge_friction, late_drape_spread, quick_checks, fabrics_peirce]
+#: each claim and the page that states it
+CLAIMS = [(SCENES, paper_fold_ratios), (SCENES, mesh_ridge_friction), (SCENES, late_drape_spread),
+          (README, quick_checks), (MODELS, fabrics_peirce)]
 
 
-@pytest.mark.parametrize("claim", CLAIMS, ids=[c.__name__ for c in CLAIMS])
-def test_the_readme_states_the_number_its_report_measured(claim):
-    text = " ".join(README.read_text().split())  # lines folded as Markdown folds them
+@pytest.mark.parametrize("page, claim", CLAIMS, ids=[c.__name__ for _, c in CLAIMS])
+def test_the_page_states_the_number_its_report_measured(page, claim):
+    text = " ".join(page.read_text().split())  # lines folded as Markdown folds them
     for phrase in claim():
-        assert phrase in text, f"README.md does not say {phrase!r} ({claim.__doc__.split(':')[0].strip()})"
+        where = page.relative_to(ROOT)
+        assert phrase in text, f"{where} does not say {phrase!r} ({claim.__doc__.split(':')[0].strip()})"
 
 
-def test_the_params_output_the_readme_quotes_is_what_the_tool_prints(capsys):
-    """README's `deformable params curtain scale=20` sentence: the scaled sheet's equivalent eta and xi as printed."""
+def test_the_params_output_the_guide_quotes_is_what_the_tool_prints(capsys):
+    """The user guide's `deformable params curtain scale=20` sentence: the scaled sheet's equivalent eta and xi as
+    printed."""
     from validation.commands import main
 
     assert main(["params", "curtain", "scale=20"]) == 0
@@ -75,6 +81,6 @@ def test_the_params_output_the_readme_quotes_is_what_the_tool_prints(capsys):
     assert printed, "deformable params curtain scale=20 no longer says what scale does"
     eta, xi = printed.groups()
     eta_value = eta.split("= ")[1].split(" ")[0]
-    text = " ".join(README.read_text().split())
+    text = " ".join(GUIDE.read_text().split())
     assert f"move as the real sheet would with eta = {eta_value} N/m and {xi}" in text
 
