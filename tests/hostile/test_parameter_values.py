@@ -35,3 +35,13 @@ def test_far_too_many_contact_samples_get_the_memory_check_every_grid_gets():
     with pytest.raises(dm.InputError, match="contact points .* needs about .* of memory") as err:
         dm.Simulation(scenes.config("floor", nodes=(12, 12), contact={"samples": 10**6}), "fd").run(steps=1)
     assert "\n" not in str(err.value)
+
+
+def test_a_scene_config_takes_numpy_scalars_and_refuses_bools():
+    from deformable import scenes
+
+    cfg = scenes.config("hanging", eta=np.int64(5), xi=np.float32(0.5), nodes=(np.int64(6), 6))
+    assert (cfg.eta, cfg.xi, cfg.nodes) == (5.0, 0.5, (6, 6)) and type(cfg.nodes[0]) is int
+    for value in (True, np.bool_(True), "5"):
+        with pytest.raises(dm.InputError, match="scene field eta must be a finite number"):
+            scenes.config("hanging", eta=value)
