@@ -12,11 +12,17 @@ study's or a sweep's cases (:class:`validation.harness.runner.Runner`):
   written, so that ``deformable run hanging 2>&1 | cat`` or a job's log shows
   how far a run is while it runs. A line reads ::
 
-      2026-12-03 11:40:02 hanging: 30 % (t = 0.3 of 1 s, 150 steps, 420 Newton iterations), 9.1 s elapsed, about 21 s left
+      2026-12-03 11:40:02 hanging: 30 % (t = 0.3 of 1 s, 60 steps, 84 Newton iterations), 9.1 s elapsed, about 21 s left
 
 The estimate of the time left is the wall time per unit of work so far times
 the work left (for a run, simulated seconds; for cases, cases: it counts the
-workers' parallelism).
+workers' parallelism), leaving out the time numba spent compiling in this
+process (:func:`compile_seconds`): a first run compiles the kernels for seconds
+(:data:`COMPILING`), which no later step repeats. With ``warmup`` (a run's steps,
+a render's frames) the work up to the first update is left out too (its first
+step loads the sparse solver's library and analyses the matrix, its first frame
+opens the renderer): the rate is measured from the first update on, and the
+line of the first update, which has no rate yet, gives no estimate.
 """
 
 from __future__ import annotations
@@ -25,7 +31,27 @@ import math
 import sys
 import time
 
-__all__ = ["Progress", "counted", "duration"]
+__all__ = ["COMPILING", "Progress", "compile_seconds", "counted", "duration"]
+
+#: what a run says before the kernels' first compile (a cold numba cache:
+#: :func:`deformable.physics.kernels.cached`). Measured (:func:`compile_seconds`, 2026-12): the compile of
+#: ``deformable run hanging --t-end 0.05`` with an empty NUMBA_CACHE_DIR took 7.3-7.5 s (FD) and 4.9-5.3 s (``--backend
+#: fe``) on a core of its own, and 20 s on two cores shared with a test run (issue 47 saw 27 s on a loaded machine)
+COMPILING = "compiling the kernels once (about 10 s; later runs read them from the cache)"
+
+_compiler = None
+
+
+def compile_seconds() -> float:
+    """Wall seconds this process has spent in numba's compiler (compiling, or loading compiled code from its cache)
+    since the first call: the time under numba's compiler lock, timed by a listener of its events."""
+    global _compiler
+    if _compiler is None:
+        from numba.core import event
+
+        _compiler = event.TimingListener()
+        event.register("numba:compiler_lock", _compiler)
+    return _compiler.duration if _compiler.done else 0.0
 
 
 def duration(seconds: float) -> str:
@@ -63,16 +89,26 @@ class Progress:
     after : float
         No line before ``after`` seconds of wall time (default 0): work that ends sooner says nothing (the
         runner's cases: a study of a few seconds is one summary line, not ten).
+    warmup : bool
+        The work up to the first update is a warm-up (module docstring): the estimate's rate is measured from the
+        first update on (default False: from the start; cases finishing on parallel workers).
     clock : callable
         The wall clock (``time.perf_counter``; a test's own clock).
+    compiling : callable
+        Seconds spent compiling so far, left out of the estimate (default :func:`compile_seconds`; a test's own).
     """
 
     def __init__(self, total: float, desc: str, *, enabled: bool = True, stream=None, fraction: float = 0.1,
-                 seconds: float = 30.0, after: float = 0.0, clock=time.perf_counter):
+                 seconds: float = 30.0, after: float = 0.0, warmup: bool = False, clock=time.perf_counter,
+                 compiling=compile_seconds):
         self.total, self.desc, self.enabled = float(total), desc, enabled
         self.stream = sys.stderr if stream is None else stream
         self.fraction, self.seconds, self.after, self.clock = fraction, seconds, after, clock
+        self.warmup, self.compiling = warmup, compiling
         self.done, self.start = 0.0, clock()
+        #: (wall clock, compiling, work done) where the estimate's rate is measured from: the start, then (warmup)
+        #: the first update
+        self._base, self._first = (self.start, compiling(), 0.0), None
         self._said, self._said_at, self._bar = 0.0, self.start, None
         if enabled and getattr(self.stream, "isatty", lambda: False)():
             from tqdm.auto import tqdm
@@ -81,14 +117,22 @@ class Progress:
                              bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix} [{elapsed}<{remaining}]")
 
     def left(self) -> float:
-        """Estimated seconds left: the wall time per unit of work so far times the work left (inf before any)."""
-        if self.done <= 0:
+        """Estimated seconds left: the wall time per unit of work since the estimate's base (the start; with
+        ``warmup`` the first update), less the time spent compiling meanwhile, times the work left (inf before
+        there is a rate)."""
+        wall, compiled, done = self._base
+        if self.done <= done:
             return math.inf
-        return (self.clock() - self.start) / self.done * max(self.total - self.done, 0.0)
+        busy = max(self.clock() - wall - (self.compiling() - compiled), 0.0)
+        return busy / (self.done - done) * max(self.total - self.done, 0.0)
 
     def update(self, done: float, detail: str = "") -> None:
         """The work done so far is ``done`` (absolute, not an increment); ``detail`` says it in the task's terms."""
         self.done = min(float(done), self.total)
+        if self.done >= self.total * (1 - 1e-9):  # the end, but for the round-off of summed steps
+            self.done = self.total
+        if self.warmup and self._first is None and self.done > 0:
+            self._first = self._base = (self.clock(), self.compiling(), self.done)
         if not self.enabled:
             return
         if self._bar is not None:
@@ -112,9 +156,20 @@ class Progress:
         stamp = time.strftime("%Y-%m-%d %H:%M:%S")
         share = f"{100 * self.done / self.total:.0f} %" if self.total > 0 else "?"
         detail = f" ({detail})" if detail else ""
-        left = "" if self.done >= self.total else f", about {duration(self.left())} left"
+        left = self.left()
+        left = "" if self.done >= self.total or math.isinf(left) else f", about {duration(left)} left"
         print(f"{stamp} {self.desc}: {share}{detail}, {duration(now - self.start)} elapsed{left}",
               file=self.stream, flush=True)
+
+    def note(self, text: str) -> None:
+        """One line that is not a share of the work (what is about to happen, :data:`COMPILING`): timestamped off a
+        terminal, above the bar on one; nothing when disabled."""
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.write(f"{self.desc}: {text}", file=self.stream)
+            return
+        print(f"{time.strftime('%Y-%m-%d %H:%M:%S')} {self.desc}: {text}", file=self.stream, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:

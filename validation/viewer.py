@@ -729,13 +729,20 @@ class Window:
             if self.recording:
                 self.plotter.write_frame()
 
-    def run(self, frames: int | None = None, screenshot=None) -> float:
+    def run(self, frames: int | None = None, screenshot=None, progress: str | None = None) -> float:
         """``frames`` frames in turn in this thread (None: the simulation in its own thread, drawn until the
-        window closes), then ``screenshot`` (PNG) of the last; returns the wall time (s) the frames took."""
+        window closes), then ``screenshot`` (PNG) of the last; returns the wall time (s) the frames took.
+        ``progress``: the name that starts a line on stderr each tenth of the ``frames`` (simulated time, an estimate
+        of the time left from the second frame on: :class:`deformable.progress.Progress`)."""
+        from deformable.progress import Progress, counted
+
         start = time.perf_counter()
         if frames is not None:
-            for _ in range(frames):
+            bar = Progress(frames, progress or "view", enabled=bool(progress), warmup=True)
+            for k in range(frames):
                 self.frame()
+                bar.update(k + 1, f"{k + 1} of {counted(frames, 'frame')}, t = {self.session.state.t:.3f} s")
+            bar.close()
         else:
             if self.plotter.off_screen:
                 raise InputError("deformable view: off screen, give the number of frames (--frames N)",

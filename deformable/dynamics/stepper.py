@@ -38,7 +38,7 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from ..algebra.solvers import one_blas_thread
-from ..checks import count, known_keys, real
+from ..checks import count, known_keys, real, suggest
 from ..errors import DivergenceError, InputError, ResourceError, StalledError, StepRejected
 from .dt import DT_MIN, resolve_dt, round_down
 from .implicit_euler import ImplicitEuler
@@ -108,13 +108,15 @@ class TimeStepper:
             raise InputError(f"solver must be one of {SOLVERS}, got {solver!r}", field="solver", value=solver)
         force_model = model.scene.force_model
         if not (scheme is None or isinstance(scheme, str)):
-            raise InputError(f"scheme must be one of {Scheme.names()}, got {scheme!r}", field="scheme", value=scheme)
+            raise InputError(f"scheme must be one of {', '.join(Scheme.names())}, got {scheme!r}"
+                             f"{suggest(scheme, Scheme.names())}", field="scheme", value=scheme)
         if scheme in _RENAMED:
             warnings.warn(f"scheme {scheme!r} is now called {_RENAMED[scheme]!r}", DeprecationWarning, stacklevel=2)
             scheme = _RENAMED[scheme]
         scheme = scheme or force_model.scheme
         if scheme not in Scheme.names():
-            raise InputError(f"scheme must be one of {Scheme.names()}, got {scheme!r}", field="scheme", value=scheme)
+            raise InputError(f"scheme must be one of {', '.join(Scheme.names())}, got {scheme!r}"
+                             f"{suggest(scheme, Scheme.names())}", field="scheme", value=scheme)
         kind = Scheme.lookup(scheme)
         kind.check(force_model)
         self.model, self.scheme = model, scheme
@@ -417,7 +419,8 @@ class TimeStepper:
             trackers.append(ProgressBar(name=progress if isinstance(progress, str) else "run"))
         self.t_goal = t_end  # the end of the run in progress (s), or None: read by a ProgressBar
         pending, self._pending = self._pending, {}
-        for tr in trackers:
+        # a progress bar starts first: its clock, and its line on a cold compile, before the others' first kernel call
+        for tr in sorted(trackers, key=lambda tr: not isinstance(tr, ProgressBar)):
             tr.initialize(state, self, expected)
             if type(tr).__name__ in pending and callable(getattr(tr, "restore", None)):
                 tr.restore(pending[type(tr).__name__])  # a resumed run's tracker takes up its memory

@@ -98,8 +98,11 @@ class ProgressBar(Tracker):
 
     A tqdm bar on a terminal; elsewhere a timestamped line at each tenth of the run and at least every 30 s of wall
     time: the simulated time reached (s), the steps taken, the Newton iterations of the implicit schemes, the wall
-    time elapsed and an estimate of the time left. The work is simulated seconds for a run to ``t_end``, steps for a
-    run of ``steps``.
+    time elapsed and an estimate of the time left, measured from the end of the first step and without the time
+    spent compiling (:class:`deformable.progress.Progress`'s ``warmup``). The work is simulated seconds for a run to
+    ``t_end``, steps for a run of ``steps``. Where numba's cache is cold (:func:`deformable.physics.kernels.cached`)
+    a line says so first (:data:`deformable.progress.COMPILING`): :meth:`deformable.TimeStepper.run` starts a
+    progress bar before the other trackers, whose start calls the first kernel.
 
     Parameters
     ----------
@@ -119,14 +122,17 @@ class ProgressBar(Tracker):
         self.progress = None
 
     def initialize(self, state, stepper, steps):
-        from ..progress import Progress
+        from ..physics import kernels
+        from ..progress import COMPILING, Progress
 
         super().initialize(state, stepper, steps)
         self.t0, self.first, self.seen, self.iterations = state.t, state.step, 0, 0
         goal = getattr(stepper, "t_goal", None)
         self.span = goal - state.t if goal is not None and goal > state.t else None
         self.progress = Progress(self.span if self.span is not None else max(steps, 1), self.name,
-                                 enabled=not self.disable, stream=self.stream)
+                                 enabled=not self.disable, stream=self.stream, warmup=True)
+        if not kernels.cached():  # before the other trackers' start, where the first kernel call compiles
+            self.progress.note(COMPILING)
 
     def handle(self, state):
         reports = self.stepper.newton_reports

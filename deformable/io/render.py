@@ -30,6 +30,7 @@ import numpy as np
 
 from ..checks import extra
 from ..errors import InputError
+from ..progress import Progress, counted
 
 __all__ = ["FIELDS", "TITLES", "Panel", "camera", "colour_range", "frame_image", "gif_bytes", "grid_faces",
            "obstacle_mesh", "offscreen_pyvista", "plotter", "png_bytes", "read_series", "render_frame", "render_series",
@@ -306,7 +307,9 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     gif : also assemble the frames into a GIF (Pillow; one palette, :func:`gif_bytes`)
     title : text drawn in the upper left corner; the frame's time is drawn in the upper right
     max_frames : render at most this many frames, evenly spread (all by default)
-    progress : show a progress bar on stderr (tqdm; silent when stderr is not a terminal)
+    progress : say how far the rendering is on stderr: a bar on a terminal, elsewhere a timestamped line each tenth
+        of the frames with an estimate of the time left (:class:`deformable.progress.Progress`), and a line when the
+        GIF is assembled
     obstacles : sequence of deformable.contact.obstacles.Obstacle, drawn in every frame (a scene's ``obstacles``)
 
     Returns
@@ -339,13 +342,8 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     written = []
-    bar = None
-    if progress:
-        import sys
-
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(frames), desc="rendering", unit="frame", disable=not sys.stderr.isatty(), leave=False)
+    # the first frame opens the renderer (VTK, an EGL or X context): the estimate is measured from the second on
+    bar = Progress(len(frames), f"rendering {Path(xdmf).name}", enabled=progress, warmup=True)
     try:
         for k, ((t, points, _), v) in enumerate(zip(frames, values)):
             if moving:
@@ -355,13 +353,12 @@ def render_series(xdmf, out_dir, field: str = "speed", *, size=(640, 480), gif: 
             png = out_dir / f"frame-{k:05d}.png"
             Image.fromarray(image).save(png)
             written.append(png)
-            if bar is not None:
-                bar.update()
+            bar.update(k + 1, f"{k + 1} of {counted(len(frames), 'frame')}")
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()
     if gif and written:
         gif_path = out_dir / f"{Path(xdmf).stem}.gif"
+        bar.note(f"assembling {gif_path.name} from the {counted(len(written), 'frame')}")
         gif_path.write_bytes(gif_bytes(written, fps=fps, colors=128))
         written.append(gif_path)
     log.info("rendered %d frames of %s to %s", len(frames), xdmf, out_dir)

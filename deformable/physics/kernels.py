@@ -27,7 +27,8 @@ import numpy as np
 from numba import njit
 
 __all__ = ["KINDS", "energy_sums", "point_gradients", "point_hessians", "element_upper", "positive_part",
-           "positive_part_2x2", "cross_into", "skew_into", "project_upper", "row_starts", "add_bending_second_order"]
+           "positive_part_2x2", "cross_into", "skew_into", "project_upper", "row_starts", "add_bending_second_order",
+           "cached"]
 
 #: Hessian kind name -> the kernels' code
 KINDS = {"newton": 0, "gauss-newton": 1, "definite": 2, "projected": 3}
@@ -346,7 +347,8 @@ def energy_sums(v, sl, bend, eta, G0, xi, B0, bending):
             e += eta[k, p] * r * r
         stretching += e
         if bending:
-            cross_into(x[sl[2]], x[sl[3]], n)  # the arithmetic of the rest tensors' (tensors.frame): residuals 0 at rest
+            # the arithmetic of the rest tensors' (tensors.frame): residuals 0 at rest
+            cross_into(x[sl[2]], x[sl[3]], n)
             area = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
             for a in range(3):
                 n[a] = n[a] / area
@@ -446,11 +448,11 @@ def project_upper(Hp, B, row, T, start, mask):
     for s in range(S):
         if not used[s]:
             continue
-        for l in range(L):
-            x = B[s, l]
+        for q in range(L):
+            x = B[s, q]
             if x != 0.0:
                 for a in range(3):
-                    i = a * L + l
+                    i = a * L + q
                     base = start[i]
                     Tsa = T[s, a]
                     for j in range(i, nl):
@@ -483,3 +485,13 @@ def positive_part(H: np.ndarray) -> np.ndarray:
     """Symmetric matrices (P, n, n) projected onto their positive semi-definite part (an eigen-decomposition)."""
     w, U = np.linalg.eigh(H)
     return (U * np.maximum(w, 0.0)[:, None, :]) @ np.swapaxes(U, 1, 2)
+
+
+def cached() -> bool:
+    """Whether numba's on-disk cache holds :func:`energy_sums`, the kernel every run calls first, for its current
+    source: False on a fresh install, an empty NUMBA_CACHE_DIR or an edited module (the run compiles; the cache's
+    index file read, a few hundred bytes). True where numba's cache cannot be read so (say nothing, not guess)."""
+    try:
+        return bool(energy_sums._cache._cache_file._load_index())
+    except Exception:  # noqa: BLE001 - numba's private layout moved
+        return True

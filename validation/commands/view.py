@@ -12,7 +12,12 @@ real time and the CPU seconds of stepping and of drawing. Exit code 0, 1 when th
 
 from __future__ import annotations
 
+import sys
+import time
 from argparse import Namespace
+
+from deformable.physics import kernels
+from deformable.progress import COMPILING
 
 from .run import positive, resolve
 
@@ -46,10 +51,13 @@ def execute(args) -> int:
     sim, *_ = resolve(Namespace(scene=args.scene, overrides=args.overrides, backend=args.backend,
                            grid=args.grid, force_model=None, resume=None))
     cfg, backend = sim.config, sim.backend
+    quiet = getattr(args, "quiet", False)
+    if not quiet and not kernels.cached():  # before the session's first kernel call: what the silence is
+        print(f"{time.strftime('%Y-%m-%d %H:%M:%S')} {cfg.scene}: {COMPILING}", file=sys.stderr, flush=True)
     window = Window(Session(cfg, backend), offscreen=args.offscreen, fps=fps, gif=args.gif)
-    wall = window.run(frames, screenshot=args.screenshot)
+    wall = window.run(frames, screenshot=args.screenshot, progress=None if quiet else cfg.scene)
     session = window.session
-    if frames is not None and not getattr(args, "quiet", False):
+    if frames is not None and not quiet:
         simulated = session.state.t
         cpu = window.cpu
         print(f"{cfg.scene}: {frames} frames, {simulated:.3f} s simulated in {wall:.2f} s wall "

@@ -63,6 +63,12 @@ def test_render_writes_pngs_and_a_gif(tmp_path, capsys):
     pngs = sorted((tmp_path / "frames").glob("frame-*.png"))
     assert len(pngs) == 3 and (tmp_path / "frames" / "hanging.gif").stat().st_size > 0
     assert "rendered 3 frames" in out
+    # what the rendering does, as it goes (issue 47): a line a frame here (each a tenth or more), then the GIF
+    said = [line.split(" ", 2)[2] for line in err.splitlines() if " rendering hanging.xdmf: " in line]
+    assert [line.split(",")[0] for line in said[:3]] == [f"rendering hanging.xdmf: {p} % ({k} of 3 frames)"
+                                                          for p, k in ((33, 1), (67, 2), (100, 3))], err
+    assert "left" not in said[0] and "left" in said[1]
+    assert said[3] == "rendering hanging.xdmf: assembling hanging.gif from the 3 frames"
 
 
 def test_a_resumed_run_is_bit_identical(tmp_path, capsys):

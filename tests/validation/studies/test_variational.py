@@ -21,14 +21,15 @@ def test_the_elastica_reference_is_the_literatures():
 
 
 def test_the_papers_force_on_the_curling_strip():
-    """xi kappa > 0: ill-posed, a 1e-6 bump grows at every dt; xi kappa < 0: the flat state is an
-    equilibrium, and the strip never curls (the arc's tip would be at z = 0.65)."""
+    """xi kappa > 0: ill-posed, a 1e-6 bump grows at every dt (diverging at 1e-3 s); xi kappa < 0: the flat state is
+    an equilibrium, and the strip never curls (the arc's tip would be at z = 0.65). The flat strip at dt = 1e-4 s
+    (2000 steps, 2.8 s of the test's 3.6 s) is the slow study test's ("-2|0.0001" finished)."""
     for dt in (1e-3, 1e-4):
         grows = V.run_case(V.Case("tpbf87", 21, 2.0, dt))
         assert grows["status"] == "diverged" or grows["max_z"] > 1e-2, grows
-        flat = V.run_case(V.Case("tpbf87", 21, -2.0, dt))
-        assert flat["status"] == "finished" and flat["max_z"] < 1e-5, flat
-    assert V.run_case(V.Case("tpbf87", 21, 2.0, 1e-3))["status"] == "diverged"
+        assert grows["status"] == "diverged" or dt != 1e-3, grows
+    flat = V.run_case(V.Case("tpbf87", 21, -2.0, 1e-3))
+    assert flat["status"] == "finished" and flat["max_z"] < 1e-5, flat
 
 
 def test_a_scene_far_above_the_papers_xi_limit_runs_only_under_the_variational_model():
