@@ -212,7 +212,7 @@ def test_a_damaged_checkpoint_is_one_line(flag_run, kind, message, tmp_path, cap
     (["flag", "force_model=frozen"], "alpha > 0 or beta > 0"),
     (["flag", "--every", "nan"], "--every must be positive"),
     (["flag", "--checkpoint-every", "0.5"], "--checkpoint-every must be a positive integer"),
-    (["flag", "--scheme", "rk4"], "invalid choice: 'rk4'"),
+    (["flag", "--scheme", "rk4"], "scheme must be one of semi-implicit, implicit-euler, newmark, got 'rk4'"),
 ])
 def test_a_bad_value_is_one_line_and_writes_nothing(argv, message, tmp_path, capsys):
     out = tmp_path / "out"
