@@ -19,7 +19,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "suggest", "extra",
+__all__ = ["is_real", "real", "count", "function", "finite_array", "vector", "sequence", "known_keys", "suggest", "extra",
            "DISTRIBUTION", "installed_version"]
 
 #: the project's name on the package registry (``pip install deformable-sheets``); the import names stay
@@ -36,13 +36,18 @@ def installed_version() -> str:
         return "0+unknown"
 
 
+def is_real(value) -> bool:
+    """Whether ``value`` is a real number: Python's or numpy's scalars, not a bool (the one test of "a number")."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
 def real(field: str, value, *, positive: bool = False, non_negative: bool = False, low: float | None = None,
          high: float | None = None) -> float:
     """``value`` as a finite float; InputError unless it is a real number within the bounds.
 
     ``positive``: > 0; ``non_negative``: >= 0; ``low``, ``high``: inclusive bounds.
     """
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+    if not is_real(value):
         raise InputError(f"{field} must be a number, got {value!r}", field=field, value=value)
     x = float(value)
     if not math.isfinite(x):
@@ -61,7 +66,7 @@ def count(field: str, value, *, minimum: int = 1, maximum: int | None = None) ->
     kind = {0: "a non-negative integer", 1: "a positive integer"}.get(minimum, f"an integer of at least {minimum}")
     if maximum is not None:
         kind = f"an integer in [{minimum}, {maximum}]"
-    ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, numbers.Real)
+    ok = is_real(value)
     if ok:
         ok = math.isfinite(float(value)) and float(value) == int(value)
     if not ok or int(value) < minimum or (maximum is not None and int(value) > maximum):

@@ -32,12 +32,11 @@ Named fabrics measured by others (:mod:`deformable.physics.fabric_presets`: the 
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import real
+from ..checks import is_real, real
 from ..errors import InputError
 from . import fabric_presets
 from .force_models import ForceModel
@@ -47,11 +46,6 @@ __all__ = ["Fabric", "G"]
 
 #: standard gravity (m/s^2), that of the bending-length test
 G = 9.80665
-
-
-def _number(value) -> bool:
-    """A real number, numpy's scalars included, not a bool."""
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def _pair(name: str, value) -> tuple[float, float]:
@@ -96,7 +90,7 @@ class Fabric:
     source: str = ""
 
     def __post_init__(self):
-        if not (_number(self.density) and math.isfinite(self.density) and self.density > 0):
+        if not (is_real(self.density) and math.isfinite(self.density) and self.density > 0):
             raise InputError(f"Fabric.density must be a positive areal density in kg/m^2, got {self.density!r}",
                              field="Fabric.density", value=self.density)
         object.__setattr__(self, "density", float(self.density))
@@ -104,7 +98,7 @@ class Fabric:
         object.__setattr__(self, "tensile", _pair("tensile", self.tensile))
         for name in ("shear", "twist"):
             v = getattr(self, name)
-            if v is not None and not (_number(v) and math.isfinite(v) and v > 0):
+            if v is not None and not (is_real(v) and math.isfinite(v) and v > 0):
                 raise InputError(f"Fabric.{name} must be positive (or None for the default), got {v!r}",
                                  field=f"Fabric.{name}", value=v)
             if v is not None:

@@ -17,13 +17,12 @@ its scaling apart, as section 4 recommends.
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
 import numpy as np
 
-from ..checks import known_keys, suggest
+from ..checks import is_real, known_keys, suggest
 from ..contact.obstacles import Obstacle
 from ..contact.obstacles import from_table as obstacle_from_table
 from ..contact.settings import Contact
@@ -64,11 +63,6 @@ def force_model_field(value, where: str = "scene field force_model"):
     known_keys(table, ["kind", *own], f"in {where} of kind {kind!r}",
                field=next((f"force_model.{k}" for k in table if k not in own), None))
     return cls(**table) if table else kind
-
-
-def _real(value) -> bool:
-    """A real number, numpy's scalars included, not a bool."""
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def force_model_table(value):
@@ -205,7 +199,7 @@ class SceneConfig(Registered, family="scene"):
                 try:
                     pair = tuple(value)
                     ok = len(pair) == 2 and all(
-                        _real(v) and math.isfinite(v) and kind(v) == v
+                        is_real(v) and math.isfinite(v) and kind(v) == v
                         for v in pair
                     )
                 except TypeError:
@@ -214,11 +208,11 @@ class SceneConfig(Registered, family="scene"):
                     raise InputError(f"scene field {f.name} must be two {kind.__name__}s, got {value!r}")
                 object.__setattr__(self, f.name, tuple(kind(v) for v in pair))
             elif f.type in (int, "int"):
-                if not _real(value) or not math.isfinite(value) or int(value) != value:
+                if not is_real(value) or not math.isfinite(value) or int(value) != value:
                     raise InputError(f"scene field {f.name} must be an integer, got {value!r}")
                 object.__setattr__(self, f.name, int(value))
             else:
-                if not _real(value) or not math.isfinite(value):
+                if not is_real(value) or not math.isfinite(value):
                     raise InputError(f"scene field {f.name} must be a finite number, got {value!r}")
                 object.__setattr__(self, f.name, float(value))
         for name in self.POSITIVE:

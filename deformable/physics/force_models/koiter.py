@@ -24,11 +24,11 @@ are the bending terms (at its nodes), :mod:`fdmodel.energy`. A flat plate's bend
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
+from ...checks import is_real
 from ...errors import InputError
 from .base import RESIDUALS, EnergyModel
 
@@ -89,7 +89,7 @@ def positive_parameter(model, name: str) -> None:
     """Check a shell's parameter ``name`` as a positive finite real number (numpy's scalars too) and store it as a
     float; InputError naming ``<Class>.<name>`` otherwise."""
     v, owner = getattr(model, name), type(model).__name__
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real) or not np.isfinite(v) or v <= 0:
+    if not is_real(v) or not np.isfinite(v) or v <= 0:
         raise InputError(f"{owner} {name} must be a positive number, got {v!r}", field=f"{owner}.{name}", value=v)
     object.__setattr__(model, name, float(v))
 
@@ -132,7 +132,7 @@ class Koiter(ShellEnergy):
         for name in ("E", "h"):
             positive_parameter(self, name)
         nu = self.nu
-        if isinstance(nu, (bool, np.bool_)) or not isinstance(nu, numbers.Real) or not 0 <= nu < 0.5:
+        if not is_real(nu) or not 0 <= nu < 0.5:
             raise InputError(f"Koiter nu must lie in [0, 1/2), got {nu!r}", field="Koiter.nu", value=nu)
         object.__setattr__(self, "nu", float(nu))
         finite_stiffnesses(self)

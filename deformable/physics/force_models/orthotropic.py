@@ -24,11 +24,11 @@ separate bending law as another member of this family.
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
+from ...checks import is_real
 from ...errors import InputError
 from .base import RESIDUALS
 from .koiter import ShellEnergy, finite_stiffnesses, positive_parameter
@@ -67,7 +67,7 @@ class Orthotropic(ShellEnergy):
         for name in ("E1", "E2", "G12", "h"):
             positive_parameter(self, name)
         nu = self.nu12
-        if isinstance(nu, (bool, np.bool_)) or not isinstance(nu, numbers.Real) or not np.isfinite(nu) or nu < 0 \
+        if not is_real(nu) or not np.isfinite(nu) or nu < 0 \
                 or nu**2 * self.E2 / self.E1 >= 1:
             raise InputError(f"Orthotropic nu12 must be non-negative with nu12^2 E2 / E1 < 1 (a positive definite "
                              f"law), got {nu!r}", field="Orthotropic.nu12", value=nu)
