@@ -88,6 +88,7 @@ class Simulation:
     Attributes
     ----------
     config : the scene config with the grid and step the run takes (None for a Scene built by hand)
+    asked : the config (or Scene) as given, before the grid and step were taken
     dt : the step (s) the run takes (or "auto")
     scene, model : the :class:`deformable.Scene` and the backend's model of it
     backend : str; ``descriptor`` its :class:`~deformable.backends.Discretisation`

@@ -178,13 +178,13 @@ def resolve(args, dt: float | None = None):
     sim = Simulation(cfg, backend, nodes=cfg.nodes if given else None, dt=cfg.dt if "dt" in fields_ else None,
                      scheme=getattr(args, "scheme", None) or table.get("scheme"),
                      overwrite=getattr(args, "overwrite", False))
-    _explain(sim, cfg)
+    _explain(sim)
     return sim, table, fields_, checkpoint
 
 
-def _explain(sim: Simulation, asked) -> None:
+def _explain(sim: Simulation) -> None:
     """Log where the run's grid or step is not the scene's, and warn where the step passes the stable one."""
-    cfg, backend = sim.config, sim.backend
+    cfg, asked, backend = sim.config, sim.asked, sim.backend
     if cfg.nodes != asked.nodes:  # the scene's grid is FD's: FE takes half as many elements a side
         log.info("%dx%d nodes (%dx%d %s) for the %s backend: the scene's %dx%d taken in its own unit (--grid "
                  "sets it)", *cfg.nodes, cfg.nodes[0] - 1, cfg.nodes[1] - 1, sim.descriptor.grid, backend,
